@@ -1,0 +1,260 @@
+"""Command line: parse, call the API, write and print, set the exit code.
+
+Exit status: 0 on success, 2 on a bad case file or option (one readable
+message, no traceback), 1 on any other failure. Set GROUNDRES_DEBUG=1 to see
+tracebacks of unexpected failures.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+DEFAULT_CASE = "hammond-undamped"
+
+
+class _UserError(click.ClickException):
+    exit_code = 2
+
+    def show(self, file=None):
+        click.echo(f"error: {self.message}", err=True)
+
+
+def _fail_user(message: str):
+    raise _UserError(message)
+
+
+def _load(case: str | None):
+    from .config import CaseError, load_case
+
+    try:
+        return load_case(case or DEFAULT_CASE)
+    except CaseError as err:
+        _fail_user(str(err))
+
+
+class _Group(click.Group):
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except (click.ClickException, click.exceptions.Exit, click.Abort, SystemExit):
+            raise
+        except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
+            from .analysis import MethodError
+            from .config import CaseError
+
+            if isinstance(err, (CaseError, MethodError)):
+                raise _UserError(str(err)) from None
+            if os.environ.get("GROUNDRES_DEBUG"):
+                raise
+            click.echo(f"error: {type(err).__name__}: {err}", err=True)
+            sys.exit(1)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="groundres")
+def main():
+    """groundres: helicopter ground resonance from equations it derives itself.
+
+    Run `groundres run` for the built-in default case, `groundres cases` for the
+    shipped cases, `groundres run CASE.toml --out DIR` for your own.
+    """
+
+
+def _console():
+    from rich.console import Console
+
+    return Console(stderr=False, highlight=False)
+
+
+def _status(console, text):
+    """A spinner while something slow runs (only on a terminal)."""
+    import contextlib
+
+    if console.is_terminal:
+        return console.status(text)
+    return contextlib.nullcontext()
+
+
+def _first_run() -> bool:
+    from .symbolic import codegen
+
+    return not codegen._paths()[0].exists()
+
+
+@main.command()
+@click.argument("case", required=False)
+@click.option("--out", "out", type=click.Path(file_okay=False), default=None,
+              help="Output directory [default: groundres-out/<case name>].")
+@click.option("--frame", type=click.Choice(["nonrotating", "rotating"]), default=None,
+              help="Frame of the reported frequencies (overrides the case).")
+@click.option("--method", type=click.Choice(["auto", "eigen", "floquet"]), default=None,
+              help="Analysis method (overrides the case).")
+@click.option("--damping-ratio", is_flag=True, help="Plot damping ratio instead of real part.")
+def run(case, out, frame, method, damping_ratio):
+    """Analyse CASE (a TOML file or a shipped case name) over its speed sweep.
+
+    Writes summary.json, modes.csv, modes.nc and coleman.png into --out. With
+    no CASE, runs the built-in default, the shipped case 'hammond-undamped'.
+    """
+    from .analysis import analyze
+
+    console = _console()
+    if case is None:
+        console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
+    the_case = _load(case)
+    name = Path(case).stem if case else DEFAULT_CASE
+    out_dir = Path(out) if out else Path("groundres-out") / name
+    label = "Deriving the equations of motion (first run only), then analysing" if _first_run() else "Analysing"
+    with _status(console, f"{label} {the_case.title}..."):
+        result = analyze(the_case, frame=frame, method=method)
+    with _status(console, "Writing results..."):
+        _write_all(result, out_dir, damping_ratio)
+    _print_result(console, result, out_dir)
+
+
+def _write_all(result, out_dir: Path, damping_ratio: bool):
+    from . import io
+
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    io.write_summary(result, out_dir / "summary.json")
+    io.write_modes_csv(result, out_dir / "modes.csv")
+    io.write_modes_netcdf(result, out_dir / "modes.nc")
+    fig = result.plot(show_damping_ratio=damping_ratio)
+    io.write_figure(fig, out_dir / "coleman.png")
+    plt.close(fig)
+
+
+def _fmt_speed(w, sweep):
+    from .params import SPEED_UNITS
+
+    text = f"{w:.5g} rad/s"
+    if sweep.unit != "rad/s":
+        text += f" ({w / SPEED_UNITS[sweep.unit]:.5g} {sweep.unit})"
+    if sweep.reference:
+        text += f" = {w / sweep.reference:.4g} ref"
+    return text
+
+
+def _print_result(console, result, out_dir):
+    from rich.table import Table
+
+    summary = result.summary()
+    sweep = result.case.sweep
+    console.print(f"[bold]{result.case.title}[/bold]  ({summary['method']}, frequencies in the {result.frame} frame)")
+    if summary["stable"]:
+        console.print("[green]Stable[/green] over the whole sweep "
+                      f"{_fmt_speed(result.rotor_speed[0], sweep)} to {_fmt_speed(result.rotor_speed[-1], sweep)}.")
+    else:
+        table = Table(title="Unstable rotor-speed ranges", title_justify="left")
+        for col in ("from", "to", "modes"):
+            table.add_column(col)
+        for r in summary["unstable_ranges"]:
+            table.add_row(_fmt_speed(r["start"], sweep), _fmt_speed(r["end"], sweep), ", ".join(r["modes"]))
+        console.print(table)
+    mr, md = summary["max_real_part"], summary["min_damping_ratio"]
+    console.print(f"Largest real part {mr['value']:.4g} 1/s ({mr['mode']}) at {_fmt_speed(mr['speed'], sweep)}; "
+                  f"smallest damping ratio {md['value']:.4g} ({md['mode']}) at {_fmt_speed(md['speed'], sweep)}.")
+    lag = summary["lag_damping"]
+    table = Table(title="Lag damping [N m s/rad]", title_justify="left")
+    for col in ("body mode", "form", "body freq [rad/s]", "tuning speed", "nu [per rev]", "Deutsch needs", "installed", "ok"):
+        table.add_column(col)
+    for e in lag["deutsch"]:
+        need = e["required_lag_damping"]
+        need_text = "n/a (no coalescence)" if need is None else ("infinite (no body damping)" if need == "infinite" else f"{need:.5g}")
+        ok = {True: "[green]yes[/green]", False: "[red]no[/red]", None: "-"}[e["satisfied"]]
+        table.add_row(
+            e["body_mode"], e["form"], f"{e['body_frequency']:.4g}",
+            "-" if e["tuning_speed"] is None else _fmt_speed(e["tuning_speed"], sweep),
+            "-" if e["lag_frequency_per_rev"] is None else f"{e['lag_frequency_per_rev']:.4g}",
+            need_text, f"{e['installed_lag_damping']:.5g}", ok,
+        )
+    console.print(table)
+    exact = lag["exact_minimum"]
+    if exact is None:
+        console.print("Exact minimum lag damping (eigenvalues): none suffices with the installed body damping.")
+    else:
+        console.print(f"Exact minimum lag damping (eigenvalues, all blades alike): {exact:.5g} N m s/rad "
+                      f"(installed {lag['installed']:.5g}).")
+    console.print(f"Wrote {out_dir}/summary.json, modes.csv, modes.nc, coleman.png")
+
+
+@main.command()
+@click.argument("name", required=False)
+def cases(name):
+    """List the shipped cases, or print the case file NAME."""
+    from rich.table import Table
+
+    from .config import shipped_cases
+
+    import tomllib
+
+    shipped = shipped_cases()
+    console = _console()
+    if name:
+        if name not in shipped:
+            _fail_user(f"case {name!r}: no such shipped case; choose one of {', '.join(shipped)}")
+        click.echo(shipped[name], nl=False)
+        return
+    table = Table(title="Shipped cases (run with: groundres run NAME)", title_justify="left")
+    table.add_column("name")
+    table.add_column("title")
+    for key, text in shipped.items():
+        table.add_row(key + (" (default)" if key == DEFAULT_CASE else ""), tomllib.loads(text).get("title", ""))
+    console.print(table)
+
+
+@main.command()
+@click.argument("case", required=False)
+@click.option("--latex", is_flag=True, help="Print LaTeX instead of text.")
+@click.option("--form", type=click.Choice(["auto", "blade", "multiblade"]), default="auto",
+              help="Blade coordinates (periodic) or multiblade coordinates (identical blades).")
+def equations(case, latex, form):
+    """Print the mass, damping and stiffness matrices derived for CASE.
+
+    Blade-coordinate form: the contribution of blade k at azimuth psi_k (body
+    dofs, lag, flap). Multiblade form (identical blades): the exact
+    time-invariant matrices, rows premultiplied by T' (cyclic rows are N/2
+    times the averaged equations).
+    """
+    import sympy as sp
+
+    from .symbolic.codegen import blade_equations
+    from .symbolic.derive import LOCAL_DOFS
+    from .symbolic.multiblade import multiblade_equations
+
+    the_case = _load(case)
+    eq = blade_equations()
+    rotor, body = the_case.rotor, the_case.body
+    if form == "auto":
+        form = "multiblade" if rotor.identical and rotor.n_blades >= 3 else "blade"
+    show = sp.latex if latex else (lambda m: sp.pretty(m, wrap_line=False, use_unicode=True))
+    click.echo(f"# {the_case.title}")
+    if form == "multiblade":
+        names, *mats = multiblade_equations(eq, rotor.n_blades, body.dofs, rotor.flap)
+        click.echo(f"# multiblade coordinates q = [{', '.join(names)}];  M q'' + C q' + K q = 0")
+        click.echo("# symbols: m, S, I blade mass, static moment, inertia; e hinge offset; h hub height;")
+        click.echo("#   K_zeta, C_zeta lag spring, damper; K_beta, C_beta flap; M_, J_, K_, C_ body; Omega rotor speed")
+    else:
+        kinds = ("lag", "flap") if rotor.flap else ("lag",)
+        keep = [LOCAL_DOFS.index(d) for d in body.dofs] + [LOCAL_DOFS.index(k) for k in kinds]
+        names = list(body.dofs) + [f"{k}_k" for k in kinds]
+        blade_mats = eq.at_azimuth(sp.Symbol("psi_k"))
+        mats = [m.extract(keep, keep) for m in blade_mats]
+        click.echo(f"# contribution of blade k (azimuth psi_k) to q = [{', '.join(names)}];  add the body's own")
+        click.echo("# diagonal M_, C_, K_ on the body rows; sum over the blades for the body rows")
+    for title, mat in zip(("mass", "damping", "stiffness"), mats):
+        click.echo(f"\n{title} matrix:")
+        click.echo(show(mat))
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

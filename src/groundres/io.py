@@ -1,0 +1,70 @@
+"""Result files, each written atomically (a temporary file renamed into place).
+
+* ``summary.json``: see docs/case-files.md;
+* ``modes.csv``: one row per (speed, mode): speed [rad/s], mode, frequency
+  [rad/s] (in the result's frame), real_part [1/s], damping_ratio [-];
+* ``modes.nc``: the same as a NetCDF-4 data set with dims ``speed``, ``mode``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import io as _io
+import json
+import os
+import tempfile
+from pathlib import Path
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path):
+    """Yield a temporary path beside ``path``; rename it into place on success."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".part")
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def write_text(path: str | Path, text: str) -> None:
+    """Write text atomically."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def write_summary(result, path: str | Path) -> None:
+    write_text(path, json.dumps(result.summary(), indent=2) + "\n")
+
+
+def modes_csv(result) -> str:
+    """The modes table as CSV text."""
+    buf = _io.StringIO()
+    out = csv.writer(buf, lineterminator="\n")
+    out.writerow(["speed", "mode", "frequency", "real_part", "damping_ratio"])
+    freq, real, ratio = result.frequency, result.real_part, result.damping_ratio
+    for i, w in enumerate(result.rotor_speed):
+        for j, label in enumerate(result.labels):
+            out.writerow([f"{w:.10g}", label, f"{freq[i, j]:.10g}", f"{real[i, j]:.10g}", f"{ratio[i, j]:.10g}"])
+    return buf.getvalue()
+
+
+def write_modes_csv(result, path: str | Path) -> None:
+    write_text(path, modes_csv(result))
+
+
+def write_modes_netcdf(result, path: str | Path) -> None:
+    with atomic_path(path) as tmp:
+        result.to_xarray().to_netcdf(tmp, engine="netcdf4")
+
+
+def write_figure(fig, path: str | Path, dpi: int = 130) -> None:
+    """Save a matplotlib figure atomically (format from the file suffix)."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png")

@@ -1,0 +1,353 @@
+"""Eigen-analysis of time-invariant systems over a speed sweep: solve, track, label.
+
+* :func:`coupling_blocks` splits the coordinates into groups that do not couple
+  (e.g. collective and differential lag never couple with hub motion), so that
+  each small block is solved on its own: LAPACK cost grows with the cube of the
+  size, and only the body-coupled block is large.
+* :func:`solve` computes eigenvalues and eigenvectors of every block, batched
+  over all speeds (one LAPACK call per block, no Python loop per speed).
+* :func:`track` orders each speed's eigenvalues so that every column is one
+  continuous branch (eigenvector similarity and predicted eigenvalue, optimal
+  assignment).
+* :func:`modes` labels branches physically from their eigenvector content and
+  gathers each conjugate pair into one mode.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+from scipy.sparse.csgraph import connected_components
+
+from .mbc import Coordinate
+
+_PAIRS = {("x", "y"): "whirl", ("pitch", "roll"): "tilt"}
+
+
+def state_matrix(mass, damping, stiffness):
+    """First-order form x' = A x with x = [q, q'], stacked over leading axes."""
+    n = mass.shape[-1]
+    rhs = np.linalg.solve(mass, np.concatenate([stiffness, damping], axis=-1))
+    a = np.zeros(mass.shape[:-2] + (2 * n, 2 * n))
+    a[..., :n, n:] = np.eye(n)
+    a[..., n:, :] = -rhs
+    return a
+
+
+def _normalised(mass, damping, stiffness):
+    """Matrices scaled so that entries of every row/column are comparable."""
+    d = np.sqrt(np.abs(np.diagonal(mass, axis1=-2, axis2=-1)))
+    scale = d[..., :, None] * d[..., None, :]
+    w = np.sqrt(np.maximum(np.abs(np.diagonal(stiffness, axis1=-2, axis2=-1)) / d**2, 0).max(-1))
+    w = np.maximum(w, 1e-300)[..., None, None]
+    return np.abs(mass) / scale + np.abs(damping) / (scale * w) + np.abs(stiffness) / (scale * w**2)
+
+
+def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:
+    """Groups of coordinates that are coupled at some speed; sorted, largest first."""
+    pattern = (_normalised(mass, damping, stiffness) > tol).reshape((-1,) + mass.shape[-2:]).any(0)
+    count, label = connected_components(pattern, directed=False)
+    blocks = [np.flatnonzero(label == i) for i in range(count)]
+    return sorted(blocks, key=lambda b: (-len(b), b[0]))
+
+
+def block_eigenvalues(mass, damping, stiffness, blocks):
+    """All eigenvalues, block by block (no vectors), shape (..., 2n)."""
+    out = [np.linalg.eigvals(state_matrix(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)))) for b in blocks]
+    return np.concatenate(out, axis=-1)
+
+
+@dataclass
+class Eigensolution:
+    """Eigenvalues and eigenvectors of a sweep, one column per branch.
+
+    Attributes
+    ----------
+    eigenvalue : complex ndarray (n_s, 2n)
+    vector : complex ndarray (n_s, n, 2n)
+        Displacement part of each eigenvector, unit 2-norm.
+    block : int ndarray (2n,)
+        Index of the coupling block each column belongs to.
+    blocks : list of int ndarray
+        Coordinate indices of each coupling block.
+    """
+
+    eigenvalue: np.ndarray
+    vector: np.ndarray
+    block: np.ndarray
+    blocks: list
+
+
+def solve(mass, damping, stiffness, blocks) -> Eigensolution:
+    """Eigen-solution of M q'' + C q' + K q = 0 at every speed, block by block."""
+    n_s, n = mass.shape[0], mass.shape[-1]
+    values = np.zeros((n_s, 2 * n), complex)
+    vectors = np.zeros((n_s, n, 2 * n), complex)
+    block_of = np.zeros(2 * n, int)
+    col = 0
+    for i, b in enumerate(blocks):
+        sub = [x[:, b[:, None], b] for x in (mass, damping, stiffness)]
+        w, v = np.linalg.eig(state_matrix(*sub))
+        q = v[:, : len(b), :]
+        q = q / np.linalg.norm(q, axis=1, keepdims=True)
+        m = 2 * len(b)
+        values[:, col : col + m] = w
+        vectors[:, b[:, None], np.arange(col, col + m)] = q
+        block_of[col : col + m] = i
+        col += m
+    return Eigensolution(values, vectors, block_of, list(blocks))
+
+
+def track(sol: Eigensolution, speeds) -> Eigensolution:
+    """Reorder columns at each speed so that each column is a continuous branch.
+
+    Cost of joining branch i (previous speed) to eigenpair j: 1 - MAC of the
+    eigenvectors plus the distance of the eigenvalue from its linear
+    extrapolation, relative to the eigenvalue's size; solved as an assignment
+    problem inside each coupling block.
+    """
+    lam, vec = sol.eigenvalue.copy(), sol.vector.copy()
+    n_s = lam.shape[0]
+    floor = 1e-3 * max(float(np.max(np.abs(lam))), 1e-12)
+    for blk in np.unique(sol.block):
+        cols = np.flatnonzero(sol.block == blk)
+        rows = np.flatnonzero(np.abs(vec[0][:, cols]).sum(1) > 0)
+        for s in range(1, n_s):
+            prev = lam[s - 1, cols]
+            pred = 2 * prev - lam[s - 2, cols] if s >= 2 else prev
+            a = vec[s - 1][np.ix_(rows, cols)]
+            b = vec[s][np.ix_(rows, cols)]
+            mac = np.abs(a.conj().T @ b) ** 2
+            dist = np.abs(pred[:, None] - lam[s, cols][None, :]) / (np.abs(prev)[:, None] + floor)
+            _, order = linear_sum_assignment(1.0 - mac + 2.0 * dist)
+            lam[s, cols] = lam[s, cols[order]]
+            vec[s][:, cols] = vec[s][:, cols[order]]
+    return Eigensolution(lam, vec, sol.block, sol.blocks)
+
+
+# -- physical content and labels ------------------------------------------------
+
+
+def _label_groups(coords: list[Coordinate], isotropic_pairs):
+    """Units of content: (label(s), coordinate indices, kind, harmonic)."""
+    index = {(c.kind, c.name): i for i, c in enumerate(coords)}
+    groups, used = [], set()
+    for (a, b), word in _PAIRS.items():
+        if ("body", a) in index and ("body", b) in index and (a, b) in isotropic_pairs:
+            ia, ib = index[("body", a)], index[("body", b)]
+            groups.append(((f"body forward {word}", f"body backward {word}"), (ia, ib), "whirl", 0))
+            used |= {ia, ib}
+    for i, c in enumerate(coords):
+        if i in used:
+            continue
+        if c.kind == "body":
+            groups.append(((f"body {c.name}",), (i,), "single", 0))
+        elif c.name == "0":
+            groups.append((("collective lag" if c.kind == "lag" else "coning",), (i,), "single", 0))
+        elif c.name == "d":
+            groups.append(((f"differential {c.kind}",), (i,), "single", c.harmonic))
+        elif c.name.endswith("c"):
+            j = index[(c.kind, c.name[:-1] + "s")]
+            n = c.harmonic
+            suffix = "" if n == 1 else f" {n}"
+            groups.append(((f"regressive {c.kind}{suffix}", f"progressive {c.kind}{suffix}"), (i, j), "cyclic", n))
+    return groups
+
+
+def content(coords, weights, eigenvalue, vector, speeds, isotropic_pairs=()):
+    """Energy of each eigenpair in each physical label, and by rotating-frame shift.
+
+    Parameters
+    ----------
+    coords : list of Coordinate
+        Nonrotating coordinates (body, multiblade).
+    weights : ndarray (n_s, n)
+        Diagonal of the mass matrix: kinetic weight of each coordinate.
+    eigenvalue : ndarray (n_s, 2n); vector : ndarray (n_s, n, 2n)
+    speeds : ndarray (n_s,)
+    isotropic_pairs : iterable of (str, str)
+        Body pairs, ("x", "y") and/or ("pitch", "roll"), that are isotropic and
+        so move in whirls rather than along an axis.
+
+    Returns
+    -------
+    labels : list of str
+    label_coords : list of tuple of int
+        Coordinates each label is made of.
+    energy : ndarray (n_s, 2n, n_labels)
+        Weighted squared amplitude of each eigenpair in each label.
+    shift_energy : ndarray (n_s, 2n, 2 h + 1)
+        Energy by the multiple m of Omega (m = -h..h) that turns the
+        nonrotating frequency into the rotating-frame one, |omega + m Omega|.
+    """
+    groups = _label_groups(coords, isotropic_pairs)
+    labels = [name for g in groups for name in g[0]]
+    label_coords = [g[1] for g in groups for _ in g[0]]
+    n_s, _, n_e = vector.shape
+    h = max([g[3] for g in groups] + [1])
+    energy = np.zeros((n_s, n_e, len(labels)))
+    shift = np.zeros((n_s, n_e, 2 * h + 1))
+    omega = eigenvalue.imag
+    speed = speeds[:, None]
+    col = 0
+    for names, idx, kind, n in groups:
+        amp = vector[:, idx, :]
+        w = weights[:, idx[0]][:, None]
+        if kind == "single":
+            e = w * np.abs(amp[:, 0]) ** 2
+            energy[..., col] += e
+            if coords[idx[0]].kind == "body":  # planar: half forward, half backward whirl
+                shift[..., h - 1] += e / 2
+                shift[..., h + 1] += e / 2
+            else:
+                shift[..., h] += e
+            col += 1
+            continue
+        fwd = 2 * w * np.abs((amp[:, 0] + 1j * amp[:, 1]) / 2) ** 2  # whirls at +omega
+        bwd = 2 * w * np.abs((amp[:, 0] - 1j * amp[:, 1]) / 2) ** 2  # whirls at -omega
+        if kind == "whirl":
+            energy[..., col] += np.where(omega >= 0, fwd, bwd)
+            energy[..., col + 1] += np.where(omega >= 0, bwd, fwd)
+            n = 1
+        else:
+            energy[..., col] += np.where(omega < n * speed, fwd, 0) + np.where(-omega < n * speed, bwd, 0)
+            energy[..., col + 1] += np.where(omega >= n * speed, fwd, 0) + np.where(-omega >= n * speed, bwd, 0)
+        # forward part: rotating frequency omega - n Omega; backward: -(omega + n Omega)
+        shift[..., h - n] += fwd
+        shift[..., h + n] += bwd
+        col += 2
+    return labels, label_coords, energy, shift
+
+
+@dataclass
+class Modes:
+    """Labelled modes over a sweep: one column per mode.
+
+    A mode is a conjugate pair of roots (or two real roots where it is
+    overdamped). At each speed every mode takes the label its eigenvector
+    content says (optimal assignment, with a preference for the label the same
+    branch had at the previous speed so that mixed modes keep their name), so
+    labels follow the physics through crossings and veerings.
+
+    Attributes
+    ----------
+    labels : list of str
+    eigenvalue : complex ndarray (n_s, n_m)
+        Representative root: the one with Im >= 0 (two real roots: the larger).
+    real_part : ndarray (n_s, n_m)
+        Largest real part of the mode's two roots [1/s].
+    frequency_nonrotating, frequency_rotating : ndarray (n_s, n_m)
+        Frequency [rad/s] seen from nonrotating and rotating axes.
+    shape : complex ndarray (n_s, n, n_m)
+        Displacement eigenvector of the representative root.
+    energy : ndarray (n_s, n_m, n_m)
+        Fraction of the mode's weighted squared amplitude in each label.
+    branch : int ndarray (n_s, n_m)
+        Tracked branch (column of the eigen-solution) of the representative
+        root: where it changes, the label moved to another branch (a veering).
+    """
+
+    labels: list
+    eigenvalue: np.ndarray
+    real_part: np.ndarray
+    frequency_nonrotating: np.ndarray
+    frequency_rotating: np.ndarray
+    shape: np.ndarray
+    energy: np.ndarray
+    branch: np.ndarray
+
+    @property
+    def damping_ratio(self) -> np.ndarray:
+        """-Re(lambda)/|lambda| of the least damped root of each mode [-]."""
+        lam = self.eigenvalue
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(np.abs(lam) > 0, -lam.real / np.abs(lam), np.nan)
+
+
+def _pair_roots(lam, frac):
+    """Group the roots of one block at one speed into modes (pairs of columns).
+
+    Complex roots pair with their conjugates; real roots pair by content.
+    Returns a list of (representative column, other column).
+    """
+    scale = max(np.abs(lam).max(), 1e-300)
+    upper = np.flatnonzero(lam.imag > 1e-9 * scale)
+    lower = np.flatnonzero(lam.imag < -1e-9 * scale)
+    real = np.flatnonzero(np.abs(lam.imag) <= 1e-9 * scale)
+    pairs = []
+    if len(upper):
+        # roots of a real matrix come in exact conjugate pairs
+        cost = np.abs(lam[upper][:, None] - lam[lower][None, :].conj())
+        r, c = linear_sum_assignment(cost)
+        pairs += [(upper[i], lower[j]) for i, j in zip(r, c)]
+    if len(real):
+        order = sorted(real, key=lambda j: (int(np.argmax(frac[j])), -lam[j].real))
+        pairs += [(order[i], order[i + 1]) if lam[order[i]].real >= lam[order[i + 1]].real
+                  else (order[i + 1], order[i]) for i in range(0, len(order) - 1, 2)]
+    return pairs
+
+
+def modes(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), stickiness=0.25) -> Modes:
+    """Gather tracked roots into modes and label them by their content.
+
+    Parameters
+    ----------
+    sol : Eigensolution
+        Tracked eigen-solution (see :func:`track`).
+    coords, weights, speeds, isotropic_pairs
+        As for :func:`content`.
+    stickiness : float
+        Bonus, in content fraction, for keeping the label a branch had at the
+        previous speed; a label moves to another branch only when that branch's
+        content in it is larger by more than this.
+    """
+    labels, label_coords, energy, shift = content(
+        coords, weights, sol.eigenvalue, sol.vector, speeds, isotropic_pairs
+    )
+    total = energy.sum(-1, keepdims=True)
+    frac = energy / np.where(total > 0, total, 1.0)
+    n_s = sol.eigenvalue.shape[0]
+    n_l = len(labels)
+    rep = np.zeros((n_s, n_l), int)
+    other = np.zeros((n_s, n_l), int)
+    for blk, members in enumerate(sol.blocks):
+        cols = np.flatnonzero(sol.block == blk)
+        mine = np.array([i for i, lc in enumerate(label_coords) if set(lc) <= set(members.tolist())])
+        if 2 * len(mine) != len(cols):
+            raise RuntimeError(f"block of {len(members)} coordinates has labels {[labels[i] for i in mine]}")
+        previous = {}
+        for s in range(n_s):
+            pairs = _pair_roots(sol.eigenvalue[s, cols], frac[s, cols])
+            score = np.array([frac[s, cols[a]][mine] + frac[s, cols[b]][mine] for a, b in pairs]) / 2
+            for i, (a, b) in enumerate(pairs):
+                for c in (cols[a], cols[b]):
+                    if c in previous:
+                        score[i, previous[c]] += stickiness
+            r, c = linear_sum_assignment(-score)
+            previous = {}
+            for i, j in zip(r, c):
+                a, b = cols[pairs[i][0]], cols[pairs[i][1]]
+                rep[s, mine[j]], other[s, mine[j]] = a, b
+                previous[a] = previous[b] = j
+    rows = np.arange(n_s)[:, None]
+    lam = sol.eigenvalue[rows, rep]
+    lam_other = sol.eigenvalue[rows, other]
+    shape = np.take_along_axis(sol.vector, rep[:, None, :], axis=2)
+    h = (shift.shape[-1] - 1) // 2
+    sh = shift[rows, rep]  # (n_s, n_m, 2h+1)
+    m = np.arange(-h, h + 1)
+    cand = np.abs(lam.imag[..., None] + m * speeds[:, None, None])
+    best = sh.max(-1, keepdims=True)
+    f_rot = np.where(sh >= best * (1 - 1e-6), cand, np.inf).min(-1)
+    return Modes(
+        labels=labels,
+        eigenvalue=lam,
+        real_part=np.maximum(lam.real, lam_other.real),
+        frequency_nonrotating=np.abs(lam.imag),
+        frequency_rotating=f_rot,
+        shape=shape,
+        energy=(frac[rows, rep] + frac[rows, other]) / 2,
+        branch=rep,
+    )

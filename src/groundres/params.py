@@ -1,0 +1,321 @@
+"""Physical description of a case: blades, rotor, body and speed sweep, in SI.
+
+Every class is a frozen dataclass validated on construction; a bad value raises
+:class:`ParameterError`, which names the key, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+BODY_DOFS = ("x", "y", "pitch", "roll")
+SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
+FRAMES = ("nonrotating", "rotating")
+METHODS = ("auto", "eigen", "floquet")
+
+
+class ParameterError(ValueError):
+    """A parameter value outside what the model allows.
+
+    Attributes
+    ----------
+    key : str
+        Name of the parameter (dotted path once the case reader adds its table).
+    value : object
+        The offending value.
+    allowed : str
+        What is allowed, in words.
+    """
+
+    def __init__(self, key: str, value, allowed: str):
+        self.key, self.value, self.allowed = key, value, allowed
+        super().__init__(f"{key} = {value!r}: {allowed}")
+
+    def under(self, prefix: str) -> "ParameterError":
+        """The same error with its key placed under a table name."""
+        return ParameterError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.allowed)
+
+
+def _positive(obj, *names):
+    for name in names:
+        value = getattr(obj, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ParameterError(name, value, "must be a finite number > 0")
+
+
+def _non_negative(obj, *names):
+    for name in names:
+        value = getattr(obj, name)
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+            raise ParameterError(name, value, "must be a finite number >= 0")
+
+
+@dataclass(frozen=True)
+class Blade:
+    """One rigid blade, described about its hinge.
+
+    Parameters
+    ----------
+    blade_mass : float
+        Mass beyond the hinge [kg].
+    blade_static_moment : float
+        First moment of mass about the hinge, S [kg m].
+    blade_inertia : float
+        Second moment of mass about the hinge, I [kg m^2].
+    hinge_offset : float
+        Distance from the shaft axis to the lag and flap hinge, e [m].
+    lag_stiffness, flap_stiffness : float
+        Root springs [N m/rad].
+    lag_damping, flap_damping : float
+        Blade-to-hub dampers [N m s/rad].
+    """
+
+    blade_mass: float
+    blade_static_moment: float
+    blade_inertia: float
+    hinge_offset: float
+    lag_stiffness: float = 0.0
+    lag_damping: float = 0.0
+    flap_stiffness: float = 0.0
+    flap_damping: float = 0.0
+
+    def __post_init__(self):
+        _positive(self, "blade_mass", "blade_inertia")
+        _non_negative(
+            self,
+            "blade_static_moment",
+            "hinge_offset",
+            "lag_stiffness",
+            "lag_damping",
+            "flap_stiffness",
+            "flap_damping",
+        )
+        s, m, i = self.blade_static_moment, self.blade_mass, self.blade_inertia
+        if s * s > m * i * (1 + 1e-12):
+            raise ParameterError(
+                "blade_static_moment",
+                s,
+                f"S^2 <= blade_mass * blade_inertia must hold for a real blade "
+                f"(here S^2 = {s * s:.6g} > m I = {m * i:.6g})",
+            )
+
+    def lag_frequency(self, rotor_speed):
+        """Rotating lag frequency nu [per rev]: nu^2 = K/(I Omega^2) + e S / I."""
+        w = np.asarray(rotor_speed, dtype=float)
+        with np.errstate(divide="ignore"):
+            return np.sqrt(
+                self.lag_stiffness / (self.blade_inertia * w**2)
+                + self.hinge_offset * self.blade_static_moment / self.blade_inertia
+            )
+
+    def flap_frequency(self, rotor_speed):
+        """Rotating flap frequency [per rev]: nu^2 = 1 + e S / I + K/(I Omega^2)."""
+        w = np.asarray(rotor_speed, dtype=float)
+        with np.errstate(divide="ignore"):
+            return np.sqrt(
+                1.0
+                + self.hinge_offset * self.blade_static_moment / self.blade_inertia
+                + self.flap_stiffness / (self.blade_inertia * w**2)
+            )
+
+
+BLADE_KEYS = tuple(f.name for f in fields(Blade))
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """N blades at equal azimuth spacing; blade k sits at Omega t + 2 pi (k-1)/N.
+
+    Parameters
+    ----------
+    blades : tuple of Blade
+        One entry per blade, blade 1 first.
+    flap : bool
+        Whether each blade has a flap degree of freedom.
+    """
+
+    blades: tuple
+    flap: bool = False
+
+    def __post_init__(self):
+        if len(self.blades) < 2:
+            raise ParameterError("blades", len(self.blades), "a rotor needs at least 2 blades")
+
+    @classmethod
+    def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> "Rotor":
+        """A rotor of ``n_blades`` identical blades."""
+        if isinstance(n_blades, bool) or not isinstance(n_blades, int) or n_blades < 2:
+            raise ParameterError("blades", n_blades, "must be a whole number >= 2")
+        return cls((blade,) * n_blades, flap)
+
+    @property
+    def n_blades(self) -> int:
+        return len(self.blades)
+
+    @property
+    def identical(self) -> bool:
+        """True when every blade has the same properties."""
+        return all(b == self.blades[0] for b in self.blades[1:])
+
+    def with_blade(self, index: int, **changes) -> "Rotor":
+        """A copy in which blade ``index`` (1-based) has some properties changed."""
+        blades = list(self.blades)
+        blades[index - 1] = replace(blades[index - 1], **changes)
+        return replace(self, blades=tuple(blades))
+
+
+@dataclass(frozen=True)
+class Body:
+    """The helicopter on its landing gear: any subset of x, y, pitch, roll.
+
+    Masses and inertias EXCLUDE the blades. x, y move the pivot (and the hub
+    with it); pitch (nose up) and roll (right side down) turn the body about the
+    pivot, which is ``hub_height`` below the hub and is the body's centre of mass.
+
+    Parameters
+    ----------
+    dofs : tuple of str
+        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll").
+    mass_x, mass_y : float
+        Translating masses [kg].
+    inertia_pitch, inertia_roll : float
+        Inertias about the pivot [kg m^2].
+    stiffness_x, stiffness_y : float
+        [N/m]; stiffness_pitch, stiffness_roll [N m/rad].
+    damping_x, damping_y : float
+        [N s/m]; damping_pitch, damping_roll [N m s/rad].
+    hub_height : float
+        Hub centre above the pivot [m].
+    """
+
+    dofs: tuple = ("x", "y")
+    mass_x: float = 0.0
+    mass_y: float = 0.0
+    inertia_pitch: float = 0.0
+    inertia_roll: float = 0.0
+    stiffness_x: float = 0.0
+    stiffness_y: float = 0.0
+    stiffness_pitch: float = 0.0
+    stiffness_roll: float = 0.0
+    damping_x: float = 0.0
+    damping_y: float = 0.0
+    damping_pitch: float = 0.0
+    damping_roll: float = 0.0
+    hub_height: float = 0.0
+
+    def __post_init__(self):
+        dofs = tuple(self.dofs)
+        object.__setattr__(self, "dofs", dofs)
+        if not dofs:
+            raise ParameterError("dofs", list(dofs), f"needs at least one of {list(BODY_DOFS)}")
+        for d in dofs:
+            if d not in BODY_DOFS:
+                raise ParameterError("dofs", list(dofs), f"each entry must be one of {list(BODY_DOFS)}")
+        if len(set(dofs)) != len(dofs):
+            raise ParameterError("dofs", list(dofs), "each degree of freedom may appear once")
+        for d in dofs:
+            _positive(self, self.inertia_key(d))
+            _non_negative(self, f"stiffness_{d}", f"damping_{d}")
+        if {"pitch", "roll"} & set(dofs):
+            h = self.hub_height
+            if not (isinstance(h, (int, float)) and math.isfinite(h)):
+                raise ParameterError("hub_height", h, "must be a finite number [m]")
+
+    @staticmethod
+    def inertia_key(dof: str) -> str:
+        """Name of the mass or inertia parameter of a body degree of freedom."""
+        return f"mass_{dof}" if dof in ("x", "y") else f"inertia_{dof}"
+
+    def value(self, kind: str, dof: str) -> float:
+        """``kind`` is "inertia" (mass or inertia), "stiffness" or "damping"."""
+        key = self.inertia_key(dof) if kind == "inertia" else f"{kind}_{dof}"
+        return getattr(self, key)
+
+    def pair_isotropic(self, a: str, b: str) -> bool:
+        """Whether two body dofs are both present with equal inertia, stiffness and damping."""
+        if a not in self.dofs or b not in self.dofs:
+            return False
+        return all(
+            math.isclose(self.value(k, a), self.value(k, b), rel_tol=1e-12, abs_tol=0.0)
+            for k in ("inertia", "stiffness", "damping")
+        )
+
+    @property
+    def isotropic(self) -> bool:
+        """True when the support looks the same in every direction of the rotor plane.
+
+        Translation needs x and y both present and identical (or both absent);
+        likewise pitch and roll.
+        """
+        ok = True
+        for a, b in (("x", "y"), ("pitch", "roll")):
+            present = (a in self.dofs) + (b in self.dofs)
+            ok &= present == 0 or self.pair_isotropic(a, b)
+        return ok
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Rotor speeds to analyse, with reporting choices.
+
+    Parameters
+    ----------
+    start, stop : float
+        Rotor speed range [rad/s], 0 <= start < stop.
+    points : int
+        Number of equally spaced speeds, >= 2.
+    unit : str
+        Unit used in the case file and on plot axes ("rad/s", "rpm", "Hz").
+    reference : float or None
+        Reference speed [rad/s]; plots show speed / reference.
+    frame : str
+        "nonrotating" or "rotating": the axes frequencies are seen from.
+    method : str
+        "auto", "eigen" or "floquet".
+    """
+
+    start: float
+    stop: float
+    points: int = 200
+    unit: str = "rad/s"
+    reference: float | None = None
+    frame: str = "nonrotating"
+    method: str = "auto"
+
+    def __post_init__(self):
+        _non_negative(self, "start")
+        _positive(self, "stop")
+        if self.start >= self.stop:
+            raise ParameterError("start", self.start, f"must be below stop ({self.stop})")
+        if isinstance(self.points, bool) or not isinstance(self.points, int) or self.points < 2:
+            raise ParameterError("points", self.points, "must be a whole number >= 2")
+        for key, allowed in (("unit", SPEED_UNITS), ("frame", FRAMES), ("method", METHODS)):
+            if getattr(self, key) not in allowed:
+                raise ParameterError(key, getattr(self, key), f"must be one of {list(allowed)}")
+        if self.reference is not None:
+            _positive(self, "reference")
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """The rotor speeds [rad/s], shape (points,)."""
+        return np.linspace(self.start, self.stop, self.points)
+
+    @property
+    def unit_factor(self) -> float:
+        """rad/s per unit of ``unit``."""
+        return SPEED_UNITS[self.unit]
+
+
+@dataclass(frozen=True)
+class Case:
+    """Everything one analysis needs."""
+
+    rotor: Rotor
+    body: Body
+    sweep: Sweep
+    title: str = "groundres case"
+    description: str = ""
+    source: str = field(default="", compare=False)

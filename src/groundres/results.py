@@ -1,0 +1,207 @@
+"""Result of a sweep: arrays with documented shapes plus metadata.
+
+Compute returns data; plotting and files consume it (``.plot()``,
+``.to_xarray()``, ``.summary()``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .modal import Modes
+from .params import Case
+from .stability import GROWTH_PER_RADIAN, DeutschEntry, Stability
+
+from ._version import __version__
+
+
+def _num(x):
+    """A JSON-safe float (None for NaN or infinity)."""
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+@dataclass
+class SweepResult:
+    """Modes and stability of one case over its rotor-speed sweep.
+
+    Attributes
+    ----------
+    case : Case
+    method : str
+        "multiblade-eigen", "rotating-eigen" or "floquet".
+    frame : str
+        Frame of ``frequency``: "nonrotating" or "rotating".
+    rotor_speed : ndarray (n_s,)
+        [rad/s].
+    modes : Modes
+        Labelled modes (see :class:`groundres.modal.Modes`).
+    stability : Stability
+    deutsch : list of DeutschEntry
+    exact_lag_damping : float or None
+        Smallest lag damping (all blades) that makes the sweep stable [N m s/rad],
+        found from the eigenvalues; None if no value up to a large cap does.
+    coordinates : list of Coordinate
+        Coordinates of the eigenvectors in ``modes.shape``.
+    """
+
+    case: Case
+    method: str
+    frame: str
+    rotor_speed: np.ndarray
+    modes: Modes
+    stability: Stability
+    deutsch: list
+    exact_lag_damping: float | None
+    coordinates: list
+
+    @property
+    def labels(self) -> list[str]:
+        return self.modes.labels
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """Modal frequency [rad/s] in the result's frame, shape (n_s, n_m)."""
+        if self.frame == "rotating":
+            return self.modes.frequency_rotating
+        return self.modes.frequency_nonrotating
+
+    @property
+    def real_part(self) -> np.ndarray:
+        """Largest real part of each mode [1/s], shape (n_s, n_m)."""
+        return self.modes.real_part
+
+    @property
+    def damping_ratio(self) -> np.ndarray:
+        """Damping ratio of each mode [-], shape (n_s, n_m)."""
+        return self.modes.damping_ratio
+
+    def unstable_modes(self, start: float, end: float) -> list[str]:
+        """Labels of the modes that grow somewhere in [start, end] [rad/s]."""
+        w = self.rotor_speed
+        inside = (w >= start) & (w <= end)
+        if not inside.any():
+            inside = np.abs(w - 0.5 * (start + end)) == np.abs(w - 0.5 * (start + end)).min()
+        grows = (self.real_part[inside] > GROWTH_PER_RADIAN * w[inside, None]).any(0)
+        if not grows.any():
+            grows = self.real_part[inside].max(0) == self.real_part[inside].max()
+        return [lab for lab, g in zip(self.labels, grows) if g]
+
+    def _mode_at(self, speed: float, values) -> str:
+        i = int(np.argmin(np.abs(self.rotor_speed - speed)))
+        return self.labels[int(np.nanargmax(values[i]))]
+
+    def summary(self) -> dict:
+        """The summary.json content (see docs/case-files.md)."""
+        st = self.stability
+        blades = self.case.rotor.blades
+        installed = min(b.lag_damping for b in blades)
+        return {
+            "title": self.case.title,
+            "groundres_version": __version__,
+            "method": self.method,
+            "frame": self.frame,
+            "speed_unit": "rad/s",
+            "stable": st.stable,
+            "unstable_ranges": [
+                {"start": s, "end": e, "modes": self.unstable_modes(s, e)} for s, e in st.unstable_ranges
+            ],
+            "max_real_part": {
+                "value": _num(st.max_real_part[0]),
+                "speed": _num(st.max_real_part[1]),
+                "mode": self._mode_at(st.max_real_part[1], self.real_part),
+            },
+            "min_damping_ratio": {
+                "value": _num(st.min_damping_ratio[0]),
+                "speed": _num(st.min_damping_ratio[1]),
+                "mode": self._mode_at(st.min_damping_ratio[1], -np.nan_to_num(self.damping_ratio, nan=np.inf)),
+            },
+            "growth_threshold_per_radian": GROWTH_PER_RADIAN,
+            "case": {
+                "source": self.case.source,
+                "blades": self.case.rotor.n_blades,
+                "flap": self.case.rotor.flap,
+                "body_dofs": list(self.case.body.dofs),
+                "identical_blades": self.case.rotor.identical,
+                "isotropic_body": self.case.body.isotropic,
+            },
+            "sweep": {
+                "start": float(self.rotor_speed[0]),
+                "stop": float(self.rotor_speed[-1]),
+                "points": int(len(self.rotor_speed)),
+                "unit_in_case": self.case.sweep.unit,
+                "reference": _num(self.case.sweep.reference),
+            },
+            "modes": list(self.labels),
+            "lag_damping": {
+                "unit": "N m s/rad",
+                "installed": installed,
+                "exact_minimum": _num(self.exact_lag_damping),
+                "exact_minimum_note": (
+                    "smallest lag damping, the same on every blade, for which no root grows "
+                    "anywhere in the sweep (eigenvalues; body damping as installed)"
+                ),
+                "deutsch": [_deutsch_entry(e) for e in self.deutsch],
+                "deutsch_note": (
+                    "Deutsch criterion at exact tuning Omega (1 - nu) = omega_b, light damping: "
+                    "planar C_b C_lag >= (N/4) S^2 omega_b^2 (1-nu)/nu; isotropic "
+                    "C_h C_lag >= (N/2) S^2 omega_h^2 (1-nu)/nu; omega_b includes the rotor mass"
+                ),
+            },
+        }
+
+    def to_xarray(self):
+        """The sweep as an xarray Dataset (dims ``speed``, ``mode``)."""
+        import xarray as xr
+
+        coords = {
+            "speed": ("speed", self.rotor_speed, {"units": "rad/s", "long_name": "rotor speed"}),
+            "mode": ("mode", np.array(self.labels, dtype=object), {"long_name": "mode label"}),
+        }
+        data = {
+            "frequency": (("speed", "mode"), self.frequency, {"units": "rad/s", "frame": self.frame}),
+            "frequency_nonrotating": (("speed", "mode"), self.modes.frequency_nonrotating, {"units": "rad/s"}),
+            "frequency_rotating": (("speed", "mode"), self.modes.frequency_rotating, {"units": "rad/s"}),
+            "real_part": (("speed", "mode"), self.real_part, {"units": "1/s"}),
+            "damping_ratio": (("speed", "mode"), self.damping_ratio, {"units": "1"}),
+            "unstable": (
+                ("speed",),
+                np.array([any(s <= w <= e for s, e in self.stability.unstable_ranges) for w in self.rotor_speed]),
+                {"long_name": "speed lies in an unstable range"},
+            ),
+        }
+        attrs = {
+            "title": self.case.title,
+            "groundres_version": __version__,
+            "method": self.method,
+            "frame": self.frame,
+            "unstable_ranges_rad_per_s": np.array(self.stability.unstable_ranges, float).ravel(),
+        }
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+    def plot(self, **kwargs):
+        """Coleman diagram (see :func:`groundres.plotting.coleman.coleman_diagram`)."""
+        from .plotting.coleman import coleman_diagram
+
+        return coleman_diagram(self, **kwargs)
+
+
+def _deutsch_entry(e: DeutschEntry) -> dict:
+    return {
+        "body_mode": e.body_mode,
+        "form": e.form,
+        "body_frequency": _num(e.body_frequency),
+        "tuning_speed": _num(e.tuning_speed),
+        "lag_frequency_per_rev": _num(e.lag_frequency),
+        "body_damping": _num(e.body_damping),
+        "required_lag_damping": None if e.required_lag_damping is None else (
+            "infinite" if math.isinf(e.required_lag_damping) else e.required_lag_damping
+        ),
+        "installed_lag_damping": e.installed_lag_damping,
+        "satisfied": e.satisfied,
+    }

@@ -1,0 +1,193 @@
+"""Mass, damping and stiffness matrices of a rotor on its body, batched over speeds.
+
+The blade-coordinate equations (body coordinates, then lag of blades 1..N, then
+flap of blades 1..N) have periodic coefficients; :meth:`System.matrices` gives
+them at any azimuth. :meth:`System.multiblade` and :meth:`System.rotating_axes`
+give the time-invariant forms where they exist (see :mod:`groundres.mbc`).
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from . import mbc
+from .mbc import Coordinate
+from .params import BODY_DOFS, Body, Rotor
+from .symbolic.codegen import blade_function
+
+_LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
+_BLADE_PARAMS = (
+    "blade_mass",
+    "blade_static_moment",
+    "blade_inertia",
+    "hinge_offset",
+)
+
+
+class System:
+    """The linear equations of one rotor on one body.
+
+    Parameters
+    ----------
+    rotor : Rotor
+    body : Body
+    """
+
+    def __init__(self, rotor: Rotor, body: Body):
+        self.rotor, self.body = rotor, body
+        self.n_blades = rotor.n_blades
+        self.n_body = len(body.dofs)
+        self.blade_kinds = ("lag", "flap") if rotor.flap else ("lag",)
+        self.size = self.n_body + self.n_blades * len(self.blade_kinds)
+        self._local = [_LOCAL[d] for d in body.dofs] + [_LOCAL[k] for k in self.blade_kinds]
+        self._global = [
+            list(range(self.n_body))
+            + [self.n_body + j * self.n_blades + k for j in range(len(self.blade_kinds))]
+            for k in range(self.n_blades)
+        ]
+
+    @cached_property
+    def coordinates(self) -> list[Coordinate]:
+        """Blade coordinates: body (nonrotating), then each blade's lag, flap."""
+        body = [Coordinate("body", d) for d in self.body.dofs]
+        blades = [
+            Coordinate(kind, str(k + 1), frame="rotating")
+            for kind in self.blade_kinds
+            for k in range(self.n_blades)
+        ]
+        return body + blades
+
+    def blade_harmonics(self, speeds) -> np.ndarray:
+        """Harmonic matrices of each blade, shape (n_s, N, 3, 5, n_loc, n_loc).
+
+        Axis 2 is mass, damping, stiffness; axis 3 the azimuth harmonics
+        (1, cos psi, sin psi, cos 2 psi, sin 2 psi) of that blade.
+        """
+        speeds = np.asarray(speeds, dtype=float)
+        f = blade_function()
+        h = self.body.hub_height
+        sel = np.ix_(range(3), range(5), self._local, self._local)
+        if self.rotor.identical:
+            b = self.rotor.blades[0]
+            arrays = f(speeds, *(getattr(b, p) for p in _BLADE_PARAMS), h,
+                       b.lag_stiffness, b.lag_damping, b.flap_stiffness, b.flap_damping)
+            one = np.moveaxis(arrays, -1, 0)[(slice(None),) + sel]
+            return np.broadcast_to(one[:, None], (len(speeds), self.n_blades) + one.shape[1:])
+        per_blade = []
+        for b in self.rotor.blades:
+            arrays = f(speeds, *(getattr(b, p) for p in _BLADE_PARAMS), h,
+                       b.lag_stiffness, b.lag_damping, b.flap_stiffness, b.flap_damping)
+            per_blade.append(np.moveaxis(arrays, -1, 0)[(slice(None),) + sel])
+        return np.stack(per_blade, axis=1)
+
+    def body_matrices(self) -> np.ndarray:
+        """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
+        return np.stack(
+            [np.diag([self.body.value(kind, d) for d in self.body.dofs]) for kind in ("inertia", "damping", "stiffness")]
+        )
+
+    def matrices(self, speeds, phase=0.0, harmonics=None):
+        """Blade-coordinate matrices at blade-1 azimuth ``phase`` (= Omega t).
+
+        Parameters
+        ----------
+        speeds : array (n_s,)
+            Rotor speeds [rad/s].
+        phase : float or array broadcastable to (..., n_s)
+            Azimuth of blade 1 [rad] at the instant wanted.
+        harmonics : array, optional
+            ``blade_harmonics(speeds)``, if already computed.
+
+        Returns
+        -------
+        ndarray, shape (3, ..., n_s, n, n)
+            Mass, damping and stiffness.
+        """
+        speeds = np.asarray(speeds, dtype=float)
+        if harmonics is None:
+            harmonics = self.blade_harmonics(speeds)
+        phase = np.broadcast_to(np.asarray(phase, dtype=float), np.broadcast_shapes(np.shape(phase), speeds.shape))
+        psi = mbc.blade_azimuths(self.n_blades, phase)
+        weights = np.stack(
+            [np.ones_like(psi), np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)], axis=-1
+        )
+        blades = np.einsum("...skh,skghij->g...skij", weights, harmonics)
+        out = np.zeros((3,) + phase.shape + (self.size, self.size))
+        out[..., : self.n_body, : self.n_body] += self.body_matrices().reshape(
+            (3,) + (1,) * phase.ndim + (self.n_body, self.n_body)
+        )
+        for k, g in enumerate(self._global):
+            out[..., np.ix_(g, g)[0], np.ix_(g, g)[1]] += blades[..., k, :, :]
+        return out
+
+    # -- time-invariant forms -------------------------------------------------
+
+    def _blade_transform(self, basis_per_kind):
+        """Block-diagonal T: identity on the body, the given basis per blade kind."""
+        n = self.size
+        t = np.zeros(basis_per_kind[0].shape[:-2] + (n, n))
+        t[..., : self.n_body, : self.n_body] = np.eye(self.n_body)
+        for j in range(len(self.blade_kinds)):
+            s = slice(self.n_body + j * self.n_blades, self.n_body + (j + 1) * self.n_blades)
+            t[..., s, s] = basis_per_kind[j]
+        return t
+
+    def multiblade_coordinates(self) -> list[Coordinate]:
+        """Coordinates of the multiblade form."""
+        body = [Coordinate("body", d) for d in self.body.dofs]
+        names = mbc.multiblade_names(self.n_blades)
+        return body + [Coordinate(kind, name, n) for kind in self.blade_kinds for name, n in names]
+
+    def multiblade(self, speeds, phase=0.0):
+        """Equations in multiblade coordinates (time-invariant for identical blades, N >= 3).
+
+        Returns
+        -------
+        ndarray, shape (3, n_s, n, n)
+            Mass, damping, stiffness at blade-1 azimuth ``phase``.
+        """
+        speeds = np.asarray(speeds, dtype=float)
+        m, c, k = self.matrices(speeds, phase)
+        basis, d1, d2 = mbc.multiblade_basis(self.n_blades, np.broadcast_to(phase, speeds.shape))
+        w = speeds[:, None, None]
+        kinds = len(self.blade_kinds)
+        t = self._blade_transform([basis] * kinds)
+        t_dot = self._blade_transform([w * d1] * kinds)
+        t_dot[..., : self.n_body, : self.n_body] = 0.0
+        t_ddot = self._blade_transform([w**2 * d2] * kinds)
+        t_ddot[..., : self.n_body, : self.n_body] = 0.0
+        return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
+
+    def rotating_axes_coordinates(self) -> list[Coordinate]:
+        """Coordinates of the rotating-axes form: body in rotating axes, blades as they are."""
+        body = [Coordinate("body", d, frame="rotating") for d in self.body.dofs]
+        return body + self.coordinates[self.n_body :]
+
+    def rotating_axes(self, speeds, phase=0.0):
+        """Equations with the body in rotating axes (time-invariant for an isotropic body).
+
+        The pairs (x, y) and (pitch, roll) turn with the rotor; a body with only
+        one of a pair is anisotropic and has no such form.
+        """
+        speeds = np.asarray(speeds, dtype=float)
+        for a, b in (("x", "y"), ("pitch", "roll")):
+            if (a in self.body.dofs) != (b in self.body.dofs):
+                raise ValueError(f"rotating axes need both {a} and {b} in the body dofs")
+        m, c, k = self.matrices(speeds, phase)
+        phase = np.broadcast_to(phase, speeds.shape)
+        rot, d_rot, d2_rot = mbc.rotation_basis(phase)
+        n = self.size
+        t = np.broadcast_to(np.eye(n), speeds.shape + (n, n)).copy()
+        t_dot = np.zeros_like(t)
+        t_ddot = np.zeros_like(t)
+        w = speeds[:, None, None]
+        index = {d: i for i, d in enumerate(self.body.dofs)}
+        for a, b in (("x", "y"), ("pitch", "roll")):
+            if a in index:
+                ij = np.ix_([index[a], index[b]], [index[a], index[b]])
+                t[(slice(None),) + ij] = rot
+                t_dot[(slice(None),) + ij] = w * d_rot
+                t_ddot[(slice(None),) + ij] = w**2 * d2_rot
+        return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
