@@ -1,0 +1,42 @@
+"""Shared fixtures: a private cache for generated code, and small cases."""
+
+import os
+import tempfile
+
+import pytest
+
+# Every test session derives the equations afresh into its own cache, so the
+# derivation itself is exercised by the suite.
+os.environ.setdefault("GROUNDRES_CACHE_DIR", tempfile.mkdtemp(prefix="groundres-cache-"))
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+from groundres import Blade, Body, Case, Rotor, Sweep  # noqa: E402
+
+# Hammond (1974) blade and hub, SI (see src/groundres/cases/hammond-1974.toml).
+HAMMOND_BLADE = dict(
+    blade_mass=94.9, blade_static_moment=289.1, blade_inertia=1084.7, hinge_offset=0.3048
+)
+HAMMOND_HUB = dict(
+    mass_x=8026.6,
+    mass_y=3283.6,
+    stiffness_x=1240481.8,
+    stiffness_y=1240481.8,
+    damping_x=51078.7,
+    damping_y=25539.35,
+)
+
+
+def make_case(n_blades=4, flap=False, dofs=("x", "y"), sweep=(1.0, 40.0, 200), blade=None, body=None):
+    blade_kw = {**HAMMOND_BLADE, "lag_damping": 4067.5, **(blade or {})}
+    body_kw = {**HAMMOND_HUB, **(body or {})}
+    return Case(
+        Rotor.uniform(n_blades, Blade(**blade_kw), flap=flap),
+        Body(dofs=dofs, **body_kw),
+        Sweep(*sweep),
+        title="test case",
+    )
+
+
+@pytest.fixture
+def hammond_case():
+    return make_case()
