@@ -1,25 +1,46 @@
-"""groundres: helicopter ground resonance from equations it derives itself."""
+"""groundres: helicopter ground resonance from equations it derives itself.
+
+The public API, loaded on first use so that ``import groundres`` (and the
+command line's ``--help``) stay fast:
+
+    >>> import groundres
+    >>> case = groundres.load_case("hammond-1974")    # doctest: +SKIP
+    >>> result = groundres.analyze(case)              # doctest: +SKIP
+    >>> result.stability.unstable_ranges              # doctest: +SKIP
+    []
+"""
+
+from importlib import import_module
 
 from ._version import __version__
-from .analysis import analyze, choose_method
-from .config import CaseError, load_case, parse_case
-from .params import Blade, Body, Case, ParameterError, Rotor, Sweep
-from .results import SweepResult
-from .system import System
 
-__all__ = [
-    "__version__",
-    "analyze",
-    "choose_method",
-    "load_case",
-    "parse_case",
-    "CaseError",
-    "ParameterError",
-    "Blade",
-    "Body",
-    "Case",
-    "Rotor",
-    "Sweep",
-    "SweepResult",
-    "System",
-]
+_API = {
+    "analyze": "analysis",
+    "choose_method": "analysis",
+    "MethodError": "analysis",
+    "load_case": "config",
+    "parse_case": "config",
+    "CaseError": "config",
+    "Blade": "params",
+    "Body": "params",
+    "Case": "params",
+    "ParameterError": "params",
+    "Rotor": "params",
+    "Sweep": "params",
+    "SweepResult": "results",
+    "System": "system",
+}
+
+__all__ = ["__version__", *_API]
+
+
+def __getattr__(name):
+    if name in _API:
+        value = getattr(import_module(f".{_API[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'groundres' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

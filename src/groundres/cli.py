@@ -100,37 +100,66 @@ def run(case, out, frame, method, damping_ratio):
     Writes summary.json, modes.csv, modes.nc and coleman.png into --out. With
     no CASE, runs the built-in default, the shipped case 'hammond-undamped'.
     """
-    from .analysis import analyze
-
     console = _console()
     if case is None:
         console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
     the_case = _load(case)
     name = Path(case).stem if case else DEFAULT_CASE
     out_dir = Path(out) if out else Path("groundres-out") / name
-    label = "Deriving the equations of motion (first run only), then analysing" if _first_run() else "Analysing"
-    with _status(console, f"{label} {the_case.title}..."):
-        result = analyze(the_case, frame=frame, method=method)
-    with _status(console, "Writing results..."):
-        _write_all(result, out_dir, damping_ratio)
+    pool = _picture_process()
+    try:
+        from .analysis import analyze
+
+        label = "Deriving the equations of motion (first run only), then analysing" if _first_run() else "Analysing"
+        with _status(console, f"{label} {the_case.title}..."):
+            result = analyze(the_case, frame=frame, method=method)
+        with _status(console, "Writing results..."):
+            _write_all(result, out_dir, damping_ratio, pool)
+    finally:
+        pool.shutdown(cancel_futures=True)
     _print_result(console, result, out_dir)
 
 
-def _write_all(result, out_dir: Path, damping_ratio: bool):
-    from . import io
-
-    os.environ.setdefault("MPLBACKEND", "Agg")
+def _warm_plotting() -> None:
+    """Import the plotting stack (runs in the picture process while the analysis runs)."""
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
 
+    from .plotting import coleman  # noqa: F401
+
+
+def _render_coleman(result, path: Path, damping_ratio: bool) -> None:
+    from . import io
+
+    io.write_figure(result.plot(show_damping_ratio=damping_ratio), path)
+
+
+def _picture_process():
+    """A one-worker pool that starts importing matplotlib at once."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    context = multiprocessing.get_context("fork") if sys.platform.startswith("linux") else None
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+    pool.submit(_warm_plotting)
+    return pool
+
+
+def _write_all(result, out_dir: Path, damping_ratio: bool, pool=None):
+    """Write the four outputs; the picture renders in the picture process meanwhile."""
+    from . import io
+
+    picture = pool.submit(_render_coleman, result, out_dir / "coleman.png", damping_ratio) if pool else None
     io.write_summary(result, out_dir / "summary.json")
     io.write_modes_csv(result, out_dir / "modes.csv")
     io.write_modes_netcdf(result, out_dir / "modes.nc")
-    fig = result.plot(show_damping_ratio=damping_ratio)
-    io.write_figure(fig, out_dir / "coleman.png")
-    plt.close(fig)
+    if picture is None:
+        _render_coleman(result, out_dir / "coleman.png", damping_ratio)
+    else:
+        picture.result()
 
 
 def _fmt_speed(w, sweep):

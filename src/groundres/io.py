@@ -17,6 +17,13 @@ import tempfile
 from pathlib import Path
 
 
+def _file_mode() -> int:
+    """Permissions of a newly created file under the current umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path):
     """Yield a temporary path beside ``path``; rename it into place on success."""
@@ -26,6 +33,7 @@ def atomic_path(path: str | Path):
     os.close(fd)
     try:
         yield Path(tmp)
+        os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
@@ -59,8 +67,28 @@ def write_modes_csv(result, path: str | Path) -> None:
 
 
 def write_modes_netcdf(result, path: str | Path) -> None:
+    """Write ``result.dataset()`` as NetCDF-4 (readable by xarray.open_dataset).
+
+    netCDF4 is used directly rather than through xarray: the file is the same
+    and the command line starts half a second faster.
+    """
+    import netCDF4
+
+    coords, variables, attrs = result.dataset()
     with atomic_path(path) as tmp:
-        result.to_xarray().to_netcdf(tmp, engine="netcdf4")
+        with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
+            for name, (_, values, _) in coords.items():
+                nc.createDimension(name, len(values))
+            for name, (dims, values, var_attrs) in {**coords, **variables}.items():
+                dtype = str if values.dtype == object else values.dtype
+                var = nc.createVariable(name, dtype, dims)
+                if dtype is str:
+                    for i, v in enumerate(values):
+                        var[i] = v
+                else:
+                    var[:] = values
+                var.setncatts(var_attrs)
+            nc.setncatts(attrs)
 
 
 def write_figure(fig, path: str | Path, dpi: int = 130) -> None:

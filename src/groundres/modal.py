@@ -15,6 +15,8 @@
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,16 +48,92 @@ def _normalised(mass, damping, stiffness):
 
 
 def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:
-    """Groups of coordinates that are coupled at some speed; sorted, largest first."""
-    pattern = (_normalised(mass, damping, stiffness) > tol).reshape((-1,) + mass.shape[-2:]).any(0)
+    """Groups of coordinates that are coupled at some speed; sorted, largest first.
+
+    The pattern is read at up to 16 speeds spread over the sweep: couplings are
+    structural (they vanish only at isolated speeds such as Omega = 0).
+    """
+    n_s = mass.shape[0] if mass.ndim == 3 else 1
+    pick = np.unique(np.linspace(0, n_s - 1, min(n_s, 16)).round().astype(int))
+    mass, damping, stiffness = (x.reshape((-1,) + x.shape[-2:])[pick] for x in (mass, damping, stiffness))
+    pattern = (_normalised(mass, damping, stiffness) > tol).any(0)
     count, label = connected_components(pattern, directed=False)
     blocks = [np.flatnonzero(label == i) for i in range(count)]
     return sorted(blocks, key=lambda b: (-len(b), b[0]))
 
 
+_POOL = None
+
+
+def _batched(fn, a):
+    """Apply a batched LAPACK call over the leading axis, split across cores.
+
+    NumPy's linear algebra releases the GIL, so threads share a large batch.
+    """
+    global _POOL
+    cores = min(os.cpu_count() or 1, 4)
+    if a.ndim < 3 or a.shape[0] < 256 or cores < 2:
+        return fn(a)
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(cores)
+    parts = list(_POOL.map(fn, np.array_split(a, cores)))
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts))
+    return np.concatenate(parts)
+
+
+def _whirl_symmetric(m, c, k):
+    """True when a 2-dof block has the form a I + b J (J = [[0, 1], [-1, 0]]) for M, C, K."""
+    for x in (m, c, k):
+        scale = np.abs(x).max() + 1e-300
+        if np.abs(x[..., 0, 0] - x[..., 1, 1]).max() > 1e-12 * scale:
+            return False
+        if np.abs(x[..., 0, 1] + x[..., 1, 0]).max() > 1e-12 * scale:
+            return False
+    return True
+
+
+def _quadratic_roots(a, b, c):
+    """Both roots of a s^2 + b s + c = 0 (complex arrays)."""
+    root = np.sqrt(b * b - 4 * a * c + 0j)
+    return (-b + root) / (2 * a), (-b - root) / (2 * a)
+
+
+def block_eig(m, c, k, vectors=True):
+    """Eigenvalues (and displacement eigenvectors) of one block at every speed.
+
+    One coordinate: the roots of m s^2 + c s + k. Two coordinates forming a
+    whirl-symmetric pair (every pure-blade cyclic pair of identical blades):
+    with u = q_c + i q_s the pair is one complex equation, solved in closed
+    form; its roots are the forward (eigenvector [1, -i]) and the conjugate
+    equation's the backward whirls ([1, i]). Anything else: batched LAPACK.
+
+    Returns eigenvalues (..., 2n) and, if asked, vectors (..., n, 2n).
+    """
+    n = m.shape[-1]
+    if n == 1:
+        s1, s2 = _quadratic_roots(m[..., 0, 0] + 0j, c[..., 0, 0] + 0j, k[..., 0, 0] + 0j)
+        w = np.stack([s1, s2], -1)
+        return (w, np.ones(w.shape[:-1] + (1, 2), complex)) if vectors else w
+    if n == 2 and _whirl_symmetric(m, c, k):
+        coeff = [x[..., 0, 0] - 1j * x[..., 0, 1] for x in (m, c, k)]
+        s1, s2 = _quadratic_roots(*coeff)
+        w = np.stack([s1, s2, s1.conj(), s2.conj()], -1)
+        if not vectors:
+            return w
+        v = np.array([[1, 1, 1, 1], [-1j, -1j, 1j, 1j]]) / np.sqrt(2)
+        return w, np.broadcast_to(v, w.shape[:-1] + (2, 4)).copy()
+    a = state_matrix(m, c, k)
+    if not vectors:
+        return _batched(np.linalg.eigvals, a)
+    w, v = _batched(np.linalg.eig, a)
+    q = v[..., :n, :]
+    return w, q / np.linalg.norm(q, axis=-2, keepdims=True)
+
+
 def block_eigenvalues(mass, damping, stiffness, blocks):
     """All eigenvalues, block by block (no vectors), shape (..., 2n)."""
-    out = [np.linalg.eigvals(state_matrix(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)))) for b in blocks]
+    out = [block_eig(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)), vectors=False) for b in blocks]
     return np.concatenate(out, axis=-1)
 
 
@@ -89,9 +167,7 @@ def solve(mass, damping, stiffness, blocks) -> Eigensolution:
     col = 0
     for i, b in enumerate(blocks):
         sub = [x[:, b[:, None], b] for x in (mass, damping, stiffness)]
-        w, v = np.linalg.eig(state_matrix(*sub))
-        q = v[:, : len(b), :]
-        q = q / np.linalg.norm(q, axis=1, keepdims=True)
+        w, q = block_eig(*sub)
         m = 2 * len(b)
         values[:, col : col + m] = w
         vectors[:, b[:, None], np.arange(col, col + m)] = q
@@ -100,31 +176,50 @@ def solve(mass, damping, stiffness, blocks) -> Eigensolution:
     return Eigensolution(values, vectors, block_of, list(blocks))
 
 
+def _assign_min(cost):
+    """Optimal assignment (rows -> columns) for a batch of square cost matrices.
+
+    Where every row's cheapest column is a different one, that choice is
+    optimal and is taken for the whole batch at once; only the remaining
+    matrices go to the Hungarian method.
+    """
+    best = np.argmin(cost, axis=-1)
+    m = cost.shape[-1]
+    distinct = (np.sort(best, axis=-1) == np.arange(m)).all(-1)
+    for i in np.flatnonzero(~distinct):
+        best[i] = linear_sum_assignment(cost[i])[1]
+    return best
+
+
 def track(sol: Eigensolution, speeds) -> Eigensolution:
     """Reorder columns at each speed so that each column is a continuous branch.
 
-    Cost of joining branch i (previous speed) to eigenpair j: 1 - MAC of the
-    eigenvectors plus the distance of the eigenvalue from its linear
-    extrapolation, relative to the eigenvalue's size; solved as an assignment
-    problem inside each coupling block.
+    Cost of joining root i at one speed to root j at the next: 1 - MAC of the
+    eigenvectors plus twice the eigenvalue change relative to its size. The
+    costs of all speed steps are formed at once and matched by
+    :func:`_assign_min`; chaining the matches is the only step per speed.
     """
-    lam, vec = sol.eigenvalue.copy(), sol.vector.copy()
+    lam, vec = sol.eigenvalue, sol.vector
     n_s = lam.shape[0]
     floor = 1e-3 * max(float(np.max(np.abs(lam))), 1e-12)
+    order = np.tile(np.arange(lam.shape[1]), (n_s, 1))
     for blk in np.unique(sol.block):
         cols = np.flatnonzero(sol.block == blk)
-        rows = np.flatnonzero(np.abs(vec[0][:, cols]).sum(1) > 0)
-        for s in range(1, n_s):
-            prev = lam[s - 1, cols]
-            pred = 2 * prev - lam[s - 2, cols] if s >= 2 else prev
-            a = vec[s - 1][np.ix_(rows, cols)]
-            b = vec[s][np.ix_(rows, cols)]
-            mac = np.abs(a.conj().T @ b) ** 2
-            dist = np.abs(pred[:, None] - lam[s, cols][None, :]) / (np.abs(prev)[:, None] + floor)
-            _, order = linear_sum_assignment(1.0 - mac + 2.0 * dist)
-            lam[s, cols] = lam[s, cols[order]]
-            vec[s][:, cols] = vec[s][:, cols[order]]
-    return Eigensolution(lam, vec, sol.block, sol.blocks)
+        if n_s < 2:
+            break
+        rows = sol.blocks[blk]
+        v = vec[:, rows[:, None], cols]  # (n_s, r, m)
+        mac = np.abs(np.einsum("sri,srj->sij", v[:-1].conj(), v[1:])) ** 2
+        lb = lam[:, cols]
+        dist = np.abs(lb[:-1, :, None] - lb[1:, None, :]) / (np.abs(lb[:-1, :, None]) + floor)
+        step = _assign_min(1.0 - mac + 2.0 * dist)  # (n_s-1, m): root i at s -> step[s, i] at s+1
+        chain = np.empty((n_s, len(cols)), int)
+        chain[0] = np.arange(len(cols))
+        for k in range(1, n_s):
+            chain[k] = step[k - 1][chain[k - 1]]
+        order[:, cols] = cols[chain]
+    rows = np.arange(n_s)[:, None]
+    return Eigensolution(lam[rows, order], np.take_along_axis(vec, order[:, None, :], axis=2), sol.block, sol.blocks)
 
 
 # -- physical content and labels ------------------------------------------------
@@ -317,20 +412,44 @@ def modes(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), stick
         mine = np.array([i for i, lc in enumerate(label_coords) if set(lc) <= set(members.tolist())])
         if 2 * len(mine) != len(cols):
             raise RuntimeError(f"block of {len(members)} coordinates has labels {[labels[i] for i in mine]}")
-        previous = {}
-        for s in range(n_s):
-            pairs = _pair_roots(sol.eigenvalue[s, cols], frac[s, cols])
-            score = np.array([frac[s, cols[a]][mine] + frac[s, cols[b]][mine] for a, b in pairs]) / 2
-            for i, (a, b) in enumerate(pairs):
-                for c in (cols[a], cols[b]):
-                    if c in previous:
-                        score[i, previous[c]] += stickiness
-            r, c = linear_sum_assignment(-score)
-            previous = {}
-            for i, j in zip(r, c):
-                a, b = cols[pairs[i][0]], cols[pairs[i][1]]
-                rep[s, mine[j]], other[s, mine[j]] = a, b
-                previous[a] = previous[b] = j
+        lam_b = sol.eigenvalue[:, cols]
+        frac_b = frac[:, cols][:, :, mine]  # (n_s, 2 nl, nl)
+        scale = np.maximum(np.abs(lam_b).max(-1, keepdims=True), 1e-300)
+        upper = lam_b.imag > 1e-9 * scale
+        plain = upper.sum(-1) == len(mine)  # no real roots at this speed
+        # conjugate partner of each root
+        partner = np.argmin(np.abs(lam_b[:, :, None] - lam_b[:, None, :].conj()), axis=-1)
+        reps = np.zeros((n_s, len(mine)), int)
+        others = np.zeros((n_s, len(mine)), int)
+        up_idx = np.argsort(~upper, axis=-1, kind="stable")[:, : len(mine)]
+        reps[plain] = up_idx[plain]
+        others[plain] = np.take_along_axis(partner, up_idx, -1)[plain]
+        for k in np.flatnonzero(~plain):
+            pairs = _pair_roots(lam_b[k], frac_b[k])
+            reps[k], others[k] = zip(*pairs)
+        rows_ = np.arange(n_s)[:, None]
+        score = (frac_b[rows_, reps] + frac_b[rows_, others]) / 2  # (n_s, modes, labels)
+        top2 = np.sort(score, axis=-1)[..., -2:] if len(mine) > 1 else np.concatenate([score, score * 0], -1)
+        choice = np.argmax(score, axis=-1)
+        clear = (np.sort(choice, -1) == np.arange(len(mine))).all(-1) & (
+            (top2[..., -1] - top2[..., 0]).min(-1) > stickiness
+        )
+        if len(mine) == 1:
+            clear[:] = True
+        label_of_col = np.full(len(cols), -1)
+        for k in range(n_s):
+            if not clear[k]:
+                sc = score[k].copy()
+                for i in range(len(mine)):
+                    for col in (reps[k, i], others[k, i]):
+                        if label_of_col[col] >= 0:
+                            sc[i, label_of_col[col]] += stickiness
+                choice[k] = linear_sum_assignment(-sc)[1]
+            label_of_col[reps[k]] = choice[k]
+            label_of_col[others[k]] = choice[k]
+        inverse = np.argsort(choice, axis=-1)  # mode index holding each label
+        rep[:, mine] = cols[np.take_along_axis(reps, inverse, -1)]
+        other[:, mine] = cols[np.take_along_axis(others, inverse, -1)]
     rows = np.arange(n_s)[:, None]
     lam = sol.eigenvalue[rows, rep]
     lam_other = sol.eigenvalue[rows, other]

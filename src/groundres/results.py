@@ -155,25 +155,32 @@ class SweepResult:
             },
         }
 
-    def to_xarray(self):
-        """The sweep as an xarray Dataset (dims ``speed``, ``mode``)."""
-        import xarray as xr
+    def dataset(self):
+        """The sweep as plain arrays: ``(coords, variables, attrs)``.
 
+        ``coords`` and ``variables`` map names to ``(dims, values, attrs)``; this
+        is the single description behind :meth:`to_xarray` and ``modes.nc``.
+        """
+        speed = self.rotor_speed
+        unstable = np.zeros(len(speed), np.int8)
+        for s, e in self.stability.unstable_ranges:
+            unstable[(speed >= s) & (speed <= e)] = 1
         coords = {
-            "speed": ("speed", self.rotor_speed, {"units": "rad/s", "long_name": "rotor speed"}),
-            "mode": ("mode", np.array(self.labels, dtype=object), {"long_name": "mode label"}),
+            "speed": (("speed",), speed, {"units": "rad/s", "long_name": "rotor speed"}),
+            "mode": (("mode",), np.array(self.labels, dtype=object), {"long_name": "mode label"}),
         }
-        data = {
-            "frequency": (("speed", "mode"), self.frequency, {"units": "rad/s", "frame": self.frame}),
-            "frequency_nonrotating": (("speed", "mode"), self.modes.frequency_nonrotating, {"units": "rad/s"}),
-            "frequency_rotating": (("speed", "mode"), self.modes.frequency_rotating, {"units": "rad/s"}),
-            "real_part": (("speed", "mode"), self.real_part, {"units": "1/s"}),
-            "damping_ratio": (("speed", "mode"), self.damping_ratio, {"units": "1"}),
-            "unstable": (
-                ("speed",),
-                np.array([any(s <= w <= e for s, e in self.stability.unstable_ranges) for w in self.rotor_speed]),
-                {"long_name": "speed lies in an unstable range"},
-            ),
+        both = ("speed", "mode")
+        variables = {
+            "frequency": (both, self.frequency, {"units": "rad/s", "long_name": f"modal frequency, {self.frame} frame"}),
+            "frequency_nonrotating": (both, self.modes.frequency_nonrotating,
+                                      {"units": "rad/s", "long_name": "modal frequency, nonrotating frame"}),
+            "frequency_rotating": (both, self.modes.frequency_rotating,
+                                   {"units": "rad/s", "long_name": "modal frequency, rotating frame"}),
+            "real_part": (both, self.real_part, {"units": "1/s", "long_name": "largest real part of the mode"}),
+            "damping_ratio": (both, self.damping_ratio, {"units": "1", "long_name": "damping ratio"}),
+            "unstable": (("speed",), unstable, {"long_name": "speed lies in an unstable range",
+                                                "flag_values": np.array([0, 1], np.int8),
+                                                "flag_meanings": "stable unstable"}),
         }
         attrs = {
             "title": self.case.title,
@@ -182,7 +189,14 @@ class SweepResult:
             "frame": self.frame,
             "unstable_ranges_rad_per_s": np.array(self.stability.unstable_ranges, float).ravel(),
         }
-        return xr.Dataset(data, coords=coords, attrs=attrs)
+        return coords, variables, attrs
+
+    def to_xarray(self):
+        """The sweep as an xarray Dataset (dims ``speed``, ``mode``)."""
+        import xarray as xr
+
+        coords, variables, attrs = self.dataset()
+        return xr.Dataset(variables, coords=coords, attrs=attrs)
 
     def plot(self, **kwargs):
         """Coleman diagram (see :func:`groundres.plotting.coleman.coleman_diagram`)."""

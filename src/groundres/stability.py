@@ -65,7 +65,7 @@ def _refine_max(fun, speeds, values, i):
     lo, hi = speeds[max(i - 1, 0)], speeds[min(i + 1, len(speeds) - 1)]
     if hi <= lo:
         return values[i], speeds[i]
-    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": 1e-9 * hi})
+    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": 1e-7 * hi})
     if -res.fun > values[i]:
         return float(-res.fun), float(res.x)
     return float(values[i]), float(speeds[i])
@@ -86,7 +86,7 @@ def unstable_ranges(speeds, max_real, max_real_at):
     Returns
     -------
     list of (float, float)
-        Interior ends to 1e-9 relative; ranges open at a sweep end report that end.
+        Interior ends to 1e-8 relative; ranges open at a sweep end report that end.
     """
     excess = lambda w: max_real_at(w) - GROWTH_PER_RADIAN * w  # noqa: E731
     positive = max_real > growth_threshold(speeds)
@@ -99,8 +99,8 @@ def unstable_ranges(speeds, max_real, max_real_at):
         j = i
         while j + 1 < n and positive[j + 1]:
             j += 1
-        start = speeds[0] if i == 0 else brentq(excess, speeds[i - 1], speeds[i], xtol=1e-12, rtol=1e-10)
-        end = speeds[-1] if j == n - 1 else brentq(excess, speeds[j], speeds[j + 1], xtol=1e-12, rtol=1e-10)
+        start = speeds[0] if i == 0 else brentq(excess, speeds[i - 1], speeds[i], xtol=1e-12, rtol=1e-8)
+        end = speeds[-1] if j == n - 1 else brentq(excess, speeds[j], speeds[j + 1], xtol=1e-12, rtol=1e-8)
         ranges.append((float(start), float(end)))
         i = j + 1
     return ranges

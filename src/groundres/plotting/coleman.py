@@ -63,10 +63,10 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     -------
     matplotlib Figure
     """
-    import matplotlib.pyplot as plt
-
     if fig is None:
-        fig = plt.figure(figsize=(10, 8), layout="constrained")
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(10, 8), layout="constrained")
     ax_f, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
     factor, unit = speed_axis(result)
     w = result.rotor_speed / factor
