@@ -18,16 +18,38 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from groundres import Blade, Body, Case, Rotor, Sweep, analyze  # noqa: E402
-from groundres import modal  # noqa: E402
+from groundres import (  # noqa: E402
+    Blade,
+    Body,
+    Case,
+    Rotor,
+    Sweep,
+    analyze,
+    modal,  # noqa: E402
+)
 from groundres.system import System  # noqa: E402
 
 
 def case():
-    blade = Blade(94.9, 289.1, 1084.7, 0.3048, lag_stiffness=1e5, lag_damping=4067.5,
-                  flap_stiffness=2e5, flap_damping=800.0)
-    body = Body(("x", "y"), mass_x=8026.6, mass_y=3283.6, stiffness_x=1240481.8, stiffness_y=1240481.8,
-                damping_x=51078.7, damping_y=25539.35)
+    blade = Blade(
+        94.9,
+        289.1,
+        1084.7,
+        0.3048,
+        lag_stiffness=1e5,
+        lag_damping=4067.5,
+        flap_stiffness=2e5,
+        flap_damping=800.0,
+    )
+    body = Body(
+        ("x", "y"),
+        mass_x=8026.6,
+        mass_y=3283.6,
+        stiffness_x=1240481.8,
+        stiffness_y=1240481.8,
+        damping_x=51078.7,
+        damping_y=25539.35,
+    )
     return Case(Rotor.uniform(6, blade, flap=True), body, Sweep(1.0, 45.0, 1000), title="bench")
 
 

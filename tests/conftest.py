@@ -13,9 +13,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 from groundres import Blade, Body, Case, Rotor, Sweep  # noqa: E402
 
 # Hammond (1974) blade and hub, SI (see src/groundres/cases/hammond-1974.toml).
-HAMMOND_BLADE = dict(
-    blade_mass=94.9, blade_static_moment=289.1, blade_inertia=1084.7, hinge_offset=0.3048
-)
+HAMMOND_BLADE = dict(blade_mass=94.9, blade_static_moment=289.1, blade_inertia=1084.7, hinge_offset=0.3048)
 HAMMOND_HUB = dict(
     mass_x=8026.6,
     mass_y=3283.6,

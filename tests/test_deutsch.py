@@ -11,20 +11,20 @@ import pytest
 
 from groundres import Blade, Body, Case, Rotor, Sweep, analyze
 
-N, I, M_BLADE = 4, 1084.7, 94.9
+N, INERTIA, M_BLADE = 4, 1084.7, 94.9
 M, K = 8026.6, 1240481.8
 
 
 def light_case(eps, isotropic):
     s, e = 289.1 * eps, 0.3048 / eps
     cx = 51078.7 * eps
-    blade = Blade(M_BLADE, s, I, e, 0.0, 1.0)
+    blade = Blade(M_BLADE, s, INERTIA, e, 0.0, 1.0)
     if isotropic:
         body = Body(("x", "y"), mass_x=M, mass_y=M, stiffness_x=K, stiffness_y=K, damping_x=cx, damping_y=cx)
     else:
         body = Body(("x",), mass_x=M, stiffness_x=K, damping_x=cx)
     wb = np.sqrt(K / (M + N * M_BLADE))
-    tuning = wb / (1 - np.sqrt(e * s / I))
+    tuning = wb / (1 - np.sqrt(e * s / INERTIA))
     return Case(Rotor.uniform(N, blade), body, Sweep(0.7 * tuning, 1.3 * tuning, 300))
 
 

@@ -50,13 +50,23 @@ def match(eigen, floquet, speed):
 CASES = {
     "hammond, damped": dict(),
     "hammond, one lag damper weak": dict(blade=dict(lag_damping=300.0)),
-    "three blades, flap, soft in-plane": dict(n_blades=3, flap=True,
-                                              blade=dict(lag_stiffness=2e5, flap_stiffness=1e5, flap_damping=500.0)),
+    "three blades, flap, soft in-plane": dict(
+        n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5, flap_damping=500.0)
+    ),
     "five blades, hub x only": dict(n_blades=5, dofs=("x",)),
     "four blades, pitch and roll with flap": dict(
-        flap=True, dofs=("pitch", "roll"),
-        body=dict(inertia_pitch=2.5e4, inertia_roll=9e3, stiffness_pitch=4e6, stiffness_roll=2e6,
-                  damping_pitch=2e4, damping_roll=1e4, hub_height=1.8)),
+        flap=True,
+        dofs=("pitch", "roll"),
+        body=dict(
+            inertia_pitch=2.5e4,
+            inertia_roll=9e3,
+            stiffness_pitch=4e6,
+            stiffness_roll=2e6,
+            damping_pitch=2e4,
+            damping_roll=1e4,
+            hub_height=1.8,
+        ),
+    ),
 }
 
 

@@ -36,9 +36,22 @@ def test_derivatives_match_finite_differences(phase):
 
 def test_multiblade_equations_are_time_invariant_for_n_at_least_3():
     for n in (3, 4, 5, 6):
-        system = System(*_rotor_body(make_case(n_blades=n, flap=True, dofs=("x", "y", "pitch", "roll"),
-                                               body=dict(inertia_pitch=2e4, inertia_roll=8e3, stiffness_pitch=3e6,
-                                                         stiffness_roll=2e6, hub_height=1.5))))
+        system = System(
+            *_rotor_body(
+                make_case(
+                    n_blades=n,
+                    flap=True,
+                    dofs=("x", "y", "pitch", "roll"),
+                    body=dict(
+                        inertia_pitch=2e4,
+                        inertia_roll=8e3,
+                        stiffness_pitch=3e6,
+                        stiffness_roll=2e6,
+                        hub_height=1.5,
+                    ),
+                )
+            )
+        )
         speeds = np.array([5.0, 20.0, 35.0])
         a = system.multiblade(speeds, 0.0)
         b = system.multiblade(speeds, 1.234)

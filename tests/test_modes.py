@@ -8,8 +8,12 @@ from groundres import analyze
 
 def test_labels_follow_the_physics_through_a_crossing():
     """Weak coupling: regressive lag crosses body x; each label keeps its line."""
-    case = make_case(dofs=("x",), blade=dict(blade_static_moment=20.0, hinge_offset=4.4, lag_damping=50.0),
-                     body=dict(damping_x=500.0), sweep=(2.0, 40.0, 400))
+    case = make_case(
+        dofs=("x",),
+        blade=dict(blade_static_moment=20.0, hinge_offset=4.4, lag_damping=50.0),
+        body=dict(damping_x=500.0),
+        sweep=(2.0, 40.0, 400),
+    )
     result = analyze(case)
     w = result.rotor_speed
     blade = case.rotor.blades[0]
@@ -52,8 +56,12 @@ def test_isotropic_hub_modes_are_whirls():
 
 def test_rotating_frame_frequencies():
     """Cyclic lag seen from the rotating frame is the rotating lag frequency nu W (uncoupled)."""
-    case = make_case(dofs=("x",), blade=dict(blade_static_moment=5.0, hinge_offset=17.6, lag_damping=0.0),
-                     body=dict(damping_x=0.0), sweep=(30.0, 40.0, 20))
+    case = make_case(
+        dofs=("x",),
+        blade=dict(blade_static_moment=5.0, hinge_offset=17.6, lag_damping=0.0),
+        body=dict(damping_x=0.0),
+        sweep=(30.0, 40.0, 20),
+    )
     result = analyze(case)
     w = result.rotor_speed
     nu = case.rotor.blades[0].lag_frequency(w)

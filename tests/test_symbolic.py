@@ -22,13 +22,31 @@ def hand_derived(n):
     kz, cz = B["lag_stiffness"], B["lag_damping"]
     mx, my = BO["mass_x"] + n * m, BO["mass_y"] + n * m
     nu2 = kz / (i * W**2) + e * s / i
-    mass = sp.Matrix([[n * i / 2, 0, 0, -n * s / 2], [0, n * i / 2, n * s / 2, 0], [0, n * s / 2, mx, 0],
-                      [-n * s / 2, 0, 0, my]])
-    damping = sp.Matrix([[n * cz / 2, n * i * W, 0, 0], [-n * i * W, n * cz / 2, 0, 0],
-                         [0, 0, BO["damping_x"], 0], [0, 0, 0, BO["damping_y"]]])
+    mass = sp.Matrix(
+        [
+            [n * i / 2, 0, 0, -n * s / 2],
+            [0, n * i / 2, n * s / 2, 0],
+            [0, n * s / 2, mx, 0],
+            [-n * s / 2, 0, 0, my],
+        ]
+    )
+    damping = sp.Matrix(
+        [
+            [n * cz / 2, n * i * W, 0, 0],
+            [-n * i * W, n * cz / 2, 0, 0],
+            [0, 0, BO["damping_x"], 0],
+            [0, 0, 0, BO["damping_y"]],
+        ]
+    )
     k = n * i * (nu2 - 1) * W**2 / 2
-    stiffness = sp.Matrix([[k, n * cz * W / 2, 0, 0], [-n * cz * W / 2, k, 0, 0],
-                           [0, 0, BO["stiffness_x"], 0], [0, 0, 0, BO["stiffness_y"]]])
+    stiffness = sp.Matrix(
+        [
+            [k, n * cz * W / 2, 0, 0],
+            [-n * cz * W / 2, k, 0, 0],
+            [0, 0, BO["stiffness_x"], 0],
+            [0, 0, 0, BO["stiffness_y"]],
+        ]
+    )
     return mass, damping, stiffness
 
 

@@ -1,9 +1,9 @@
 """One call from a case to a result: wiring only, the physics lives below.
 
-    >>> from groundres import analyze, load_case
-    >>> result = analyze(load_case("hammond-1974"))   # doctest: +SKIP
-    >>> result.stability.stable                        # doctest: +SKIP
-    True
+>>> from groundres import analyze, load_case
+>>> result = analyze(load_case("hammond-1974"))   # doctest: +SKIP
+>>> result.stability.stable                        # doctest: +SKIP
+True
 """
 
 from __future__ import annotations
@@ -76,7 +76,7 @@ class _Model:
     def matrices(self, speeds):
         return self.system.multiblade(np.atleast_1d(np.asarray(speeds, dtype=float)))
 
-    def with_lag_damping(self, value: float) -> "_Model":
+    def with_lag_damping(self, value: float) -> _Model:
         blades = tuple(replace(b, lag_damping=value) for b in self.case.rotor.blades)
         rotor = replace(self.case.rotor, blades=blades)
         return _Model(replace(self.case, rotor=rotor), self.form)

@@ -87,12 +87,25 @@ def _first_run() -> bool:
 
 @main.command()
 @click.argument("case", required=False)
-@click.option("--out", "out", type=click.Path(file_okay=False), default=None,
-              help="Output directory [default: groundres-out/<case name>].")
-@click.option("--frame", type=click.Choice(["nonrotating", "rotating"]), default=None,
-              help="Frame of the reported frequencies (overrides the case).")
-@click.option("--method", type=click.Choice(["auto", "eigen", "floquet"]), default=None,
-              help="Analysis method (overrides the case).")
+@click.option(
+    "--out",
+    "out",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Output directory [default: groundres-out/<case name>].",
+)
+@click.option(
+    "--frame",
+    type=click.Choice(["nonrotating", "rotating"]),
+    default=None,
+    help="Frame of the reported frequencies (overrides the case).",
+)
+@click.option(
+    "--method",
+    type=click.Choice(["auto", "eigen", "floquet"]),
+    default=None,
+    help="Analysis method (overrides the case).",
+)
 @click.option("--damping-ratio", is_flag=True, help="Plot damping ratio instead of real part.")
 def run(case, out, frame, method, damping_ratio):
     """Analyse CASE (a TOML file or a shipped case name) over its speed sweep.
@@ -110,7 +123,11 @@ def run(case, out, frame, method, damping_ratio):
     try:
         from .analysis import analyze
 
-        label = "Deriving the equations of motion (first run only), then analysing" if _first_run() else "Analysing"
+        label = (
+            "Deriving the equations of motion (first run only), then analysing"
+            if _first_run()
+            else "Analysing"
+        )
         with _status(console, f"{label} {the_case.title}..."):
             result = analyze(the_case, frame=frame, method=method)
         with _status(console, "Writing results..."):
@@ -163,13 +180,12 @@ def _write_all(result, out_dir: Path, damping_ratio: bool, pool=None):
 
 
 def _fmt_speed(w, sweep):
+    """A speed [rad/s] in the case's unit, with its ratio to the reference."""
     from .params import SPEED_UNITS
 
-    text = f"{w:.5g} rad/s"
-    if sweep.unit != "rad/s":
-        text += f" ({w / SPEED_UNITS[sweep.unit]:.5g} {sweep.unit})"
+    text = f"{w / SPEED_UNITS[sweep.unit]:.5g} {sweep.unit}"
     if sweep.reference:
-        text += f" = {w / sweep.reference:.4g} ref"
+        text += f" ({w / sweep.reference:.4g} ref)"
     return text
 
 
@@ -178,10 +194,14 @@ def _print_result(console, result, out_dir):
 
     summary = result.summary()
     sweep = result.case.sweep
-    console.print(f"[bold]{result.case.title}[/bold]  ({summary['method']}, frequencies in the {result.frame} frame)")
+    console.print(
+        f"[bold]{result.case.title}[/bold]  ({summary['method']}, frequencies in the {result.frame} frame)"
+    )
     if summary["stable"]:
-        console.print("[green]Stable[/green] over the whole sweep "
-                      f"{_fmt_speed(result.rotor_speed[0], sweep)} to {_fmt_speed(result.rotor_speed[-1], sweep)}.")
+        console.print(
+            "[green]Stable[/green] over the whole sweep "
+            f"{_fmt_speed(result.rotor_speed[0], sweep)} to {_fmt_speed(result.rotor_speed[-1], sweep)}."
+        )
     else:
         table = Table(title="Unstable rotor-speed ranges", title_justify="left")
         for col in ("from", "to", "modes"):
@@ -190,29 +210,45 @@ def _print_result(console, result, out_dir):
             table.add_row(_fmt_speed(r["start"], sweep), _fmt_speed(r["end"], sweep), ", ".join(r["modes"]))
         console.print(table)
     mr, md = summary["max_real_part"], summary["min_damping_ratio"]
-    console.print(f"Largest real part {mr['value']:.4g} 1/s ({mr['mode']}) at {_fmt_speed(mr['speed'], sweep)}; "
-                  f"smallest damping ratio {md['value']:.4g} ({md['mode']}) at {_fmt_speed(md['speed'], sweep)}.")
+    console.print(
+        f"Largest real part {mr['value']:.4g} 1/s ({mr['mode']}) at {_fmt_speed(mr['speed'], sweep)}; "
+        f"smallest damping ratio {md['value']:.4g} ({md['mode']}) at {_fmt_speed(md['speed'], sweep)}."
+    )
     lag = summary["lag_damping"]
-    table = Table(title="Lag damping [N m s/rad]", title_justify="left")
-    for col in ("body mode", "form", "body freq [rad/s]", "tuning speed", "nu [per rev]", "Deutsch needs", "installed", "ok"):
+    table = Table(
+        title="Lag damping [N m s/rad] by the Deutsch criterion, per body mode", title_justify="left"
+    )
+    for col in ("body", "form", "omega_b [rad/s]", "tuning speed", "nu", "needs", "installed", "ok"):
         table.add_column(col)
     for e in lag["deutsch"]:
         need = e["required_lag_damping"]
-        need_text = "n/a (no coalescence)" if need is None else ("infinite (no body damping)" if need == "infinite" else f"{need:.5g}")
+        need_text = (
+            "none (no coalescence)"
+            if need is None
+            else ("infinite (body undamped)" if need == "infinite" else f"{need:.5g}")
+        )
         ok = {True: "[green]yes[/green]", False: "[red]no[/red]", None: "-"}[e["satisfied"]]
         table.add_row(
-            e["body_mode"], e["form"], f"{e['body_frequency']:.4g}",
+            e["body_mode"],
+            e["form"],
+            f"{e['body_frequency']:.4g}",
             "-" if e["tuning_speed"] is None else _fmt_speed(e["tuning_speed"], sweep),
             "-" if e["lag_frequency_per_rev"] is None else f"{e['lag_frequency_per_rev']:.4g}",
-            need_text, f"{e['installed_lag_damping']:.5g}", ok,
+            need_text,
+            f"{e['installed_lag_damping']:.5g}",
+            ok,
         )
     console.print(table)
     exact = lag["exact_minimum"]
     if exact is None:
-        console.print("Exact minimum lag damping (eigenvalues): none suffices with the installed body damping.")
+        console.print(
+            "Exact minimum lag damping (eigenvalues): none suffices with the installed body damping."
+        )
     else:
-        console.print(f"Exact minimum lag damping (eigenvalues, all blades alike): {exact:.5g} N m s/rad "
-                      f"(installed {lag['installed']:.5g}).")
+        console.print(
+            f"Exact minimum lag damping (eigenvalues, all blades alike): {exact:.5g} N m s/rad "
+            f"(installed {lag['installed']:.5g})."
+        )
     console.print(f"Wrote {out_dir}/summary.json, modes.csv, modes.nc, coleman.png")
 
 
@@ -220,11 +256,11 @@ def _print_result(console, result, out_dir):
 @click.argument("name", required=False)
 def cases(name):
     """List the shipped cases, or print the case file NAME."""
+    import tomllib
+
     from rich.table import Table
 
     from .config import shipped_cases
-
-    import tomllib
 
     shipped = shipped_cases()
     console = _console()
@@ -237,15 +273,21 @@ def cases(name):
     table.add_column("name")
     table.add_column("title")
     for key, text in shipped.items():
-        table.add_row(key + (" (default)" if key == DEFAULT_CASE else ""), tomllib.loads(text).get("title", ""))
+        table.add_row(
+            key + (" (default)" if key == DEFAULT_CASE else ""), tomllib.loads(text).get("title", "")
+        )
     console.print(table)
 
 
 @main.command()
 @click.argument("case", required=False)
 @click.option("--latex", is_flag=True, help="Print LaTeX instead of text.")
-@click.option("--form", type=click.Choice(["auto", "blade", "multiblade"]), default="auto",
-              help="Blade coordinates (periodic) or multiblade coordinates (identical blades).")
+@click.option(
+    "--form",
+    type=click.Choice(["auto", "blade", "multiblade"]),
+    default="auto",
+    help="Blade coordinates (periodic) or multiblade coordinates (identical blades).",
+)
 def equations(case, latex, form):
     """Print the mass, damping and stiffness matrices derived for CASE.
 
@@ -271,14 +313,19 @@ def equations(case, latex, form):
         names, *mats = multiblade_equations(eq, rotor.n_blades, body.dofs, rotor.flap)
         click.echo(f"# multiblade coordinates q = [{', '.join(names)}];  M q'' + C q' + K q = 0")
         click.echo("# symbols: m, S, I blade mass, static moment, inertia; e hinge offset; h hub height;")
-        click.echo("#   K_zeta, C_zeta lag spring, damper; K_beta, C_beta flap; M_, J_, K_, C_ body; Omega rotor speed")
+        click.echo(
+            "#   K_zeta, C_zeta lag spring, damper; K_beta, C_beta flap;"
+            " M_, J_, K_, C_ body; Omega rotor speed"
+        )
     else:
         kinds = ("lag", "flap") if rotor.flap else ("lag",)
         keep = [LOCAL_DOFS.index(d) for d in body.dofs] + [LOCAL_DOFS.index(k) for k in kinds]
         names = list(body.dofs) + [f"{k}_k" for k in kinds]
         blade_mats = eq.at_azimuth(sp.Symbol("psi_k"))
         mats = [m.extract(keep, keep) for m in blade_mats]
-        click.echo(f"# contribution of blade k (azimuth psi_k) to q = [{', '.join(names)}];  add the body's own")
+        click.echo(
+            f"# contribution of blade k (azimuth psi_k) to q = [{', '.join(names)}];  add the body's own"
+        )
         click.echo("# diagonal M_, C_, K_ on the body rows; sum over the blades for the body rows")
     for title, mat in zip(("mass", "damping", "stiffness"), mats):
         click.echo(f"\n{title} matrix:")

@@ -114,7 +114,9 @@ def _check_table(table: str, data: dict) -> None:
         if key not in schema:
             near = difflib.get_close_matches(key, schema, n=1, cutoff=0.5)
             hint = f"; did you mean '{near[0]}'?" if near else f"; allowed keys: {', '.join(schema)}"
-            raise CaseError(f"unknown key '{key}' in {('[' + table + ']') if table else 'the case file'}{hint}")
+            raise CaseError(
+                f"unknown key '{key}' in {('[' + table + ']') if table else 'the case file'}{hint}"
+            )
         _check_type(table, key, value, schema[key])
     for key in REQUIRED.get(table, ()):
         if key not in data:

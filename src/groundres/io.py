@@ -58,7 +58,9 @@ def modes_csv(result) -> str:
     freq, real, ratio = result.frequency, result.real_part, result.damping_ratio
     for i, w in enumerate(result.rotor_speed):
         for j, label in enumerate(result.labels):
-            out.writerow([f"{w:.10g}", label, f"{freq[i, j]:.10g}", f"{real[i, j]:.10g}", f"{ratio[i, j]:.10g}"])
+            out.writerow(
+                [f"{w:.10g}", label, f"{freq[i, j]:.10g}", f"{real[i, j]:.10g}", f"{ratio[i, j]:.10g}"]
+            )
     return buf.getvalue()
 
 

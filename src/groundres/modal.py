@@ -133,7 +133,9 @@ def block_eig(m, c, k, vectors=True):
 
 def block_eigenvalues(mass, damping, stiffness, blocks):
     """All eigenvalues, block by block (no vectors), shape (..., 2n)."""
-    out = [block_eig(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)), vectors=False) for b in blocks]
+    out = [
+        block_eig(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)), vectors=False) for b in blocks
+    ]
     return np.concatenate(out, axis=-1)
 
 
@@ -219,7 +221,9 @@ def track(sol: Eigensolution, speeds) -> Eigensolution:
             chain[k] = step[k - 1][chain[k - 1]]
         order[:, cols] = cols[chain]
     rows = np.arange(n_s)[:, None]
-    return Eigensolution(lam[rows, order], np.take_along_axis(vec, order[:, None, :], axis=2), sol.block, sol.blocks)
+    return Eigensolution(
+        lam[rows, order], np.take_along_axis(vec, order[:, None, :], axis=2), sol.block, sol.blocks
+    )
 
 
 # -- physical content and labels ------------------------------------------------
@@ -247,7 +251,9 @@ def _label_groups(coords: list[Coordinate], isotropic_pairs):
             j = index[(c.kind, c.name[:-1] + "s")]
             n = c.harmonic
             suffix = "" if n == 1 else f" {n}"
-            groups.append(((f"regressive {c.kind}{suffix}", f"progressive {c.kind}{suffix}"), (i, j), "cyclic", n))
+            groups.append(
+                ((f"regressive {c.kind}{suffix}", f"progressive {c.kind}{suffix}"), (i, j), "cyclic", n)
+            )
     return groups
 
 
@@ -287,7 +293,7 @@ def content(coords, weights, eigenvalue, vector, speeds, isotropic_pairs=()):
     omega = eigenvalue.imag
     speed = speeds[:, None]
     col = 0
-    for names, idx, kind, n in groups:
+    for _, idx, kind, n in groups:
         amp = vector[:, idx, :]
         w = weights[:, idx[0]][:, None]
         if kind == "single":
@@ -308,7 +314,9 @@ def content(coords, weights, eigenvalue, vector, speeds, isotropic_pairs=()):
             n = 1
         else:
             energy[..., col] += np.where(omega < n * speed, fwd, 0) + np.where(-omega < n * speed, bwd, 0)
-            energy[..., col + 1] += np.where(omega >= n * speed, fwd, 0) + np.where(-omega >= n * speed, bwd, 0)
+            energy[..., col + 1] += np.where(omega >= n * speed, fwd, 0) + np.where(
+                -omega >= n * speed, bwd, 0
+            )
         # forward part: rotating frequency omega - n Omega; backward: -(omega + n Omega)
         shift[..., h - n] += fwd
         shift[..., h + n] += bwd
@@ -379,8 +387,12 @@ def _pair_roots(lam, frac):
         pairs += [(upper[i], lower[j]) for i, j in zip(r, c)]
     if len(real):
         order = sorted(real, key=lambda j: (int(np.argmax(frac[j])), -lam[j].real))
-        pairs += [(order[i], order[i + 1]) if lam[order[i]].real >= lam[order[i + 1]].real
-                  else (order[i + 1], order[i]) for i in range(0, len(order) - 1, 2)]
+        pairs += [
+            (order[i], order[i + 1])
+            if lam[order[i]].real >= lam[order[i + 1]].real
+            else (order[i + 1], order[i])
+            for i in range(0, len(order) - 1, 2)
+        ]
     return pairs
 
 

@@ -34,7 +34,7 @@ class ParameterError(ValueError):
         self.key, self.value, self.allowed = key, value, allowed
         super().__init__(f"{key} = {value!r}: {allowed}")
 
-    def under(self, prefix: str) -> "ParameterError":
+    def under(self, prefix: str) -> ParameterError:
         """The same error with its key placed under a table name."""
         return ParameterError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.allowed)
 
@@ -145,7 +145,7 @@ class Rotor:
             raise ParameterError("blades", len(self.blades), "a rotor needs at least 2 blades")
 
     @classmethod
-    def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> "Rotor":
+    def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> Rotor:
         """A rotor of ``n_blades`` identical blades."""
         if isinstance(n_blades, bool) or not isinstance(n_blades, int) or n_blades < 2:
             raise ParameterError("blades", n_blades, "must be a whole number >= 2")
@@ -160,7 +160,7 @@ class Rotor:
         """True when every blade has the same properties."""
         return all(b == self.blades[0] for b in self.blades[1:])
 
-    def with_blade(self, index: int, **changes) -> "Rotor":
+    def with_blade(self, index: int, **changes) -> Rotor:
         """A copy in which blade ``index`` (1-based) has some properties changed."""
         blades = list(self.blades)
         blades[index - 1] = replace(blades[index - 1], **changes)

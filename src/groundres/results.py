@@ -11,11 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._version import __version__
 from .modal import Modes
 from .params import Case
 from .stability import GROWTH_PER_RADIAN, DeutschEntry, Stability
-
-from ._version import __version__
 
 
 def _num(x):
@@ -119,7 +118,9 @@ class SweepResult:
             "min_damping_ratio": {
                 "value": _num(st.min_damping_ratio[0]),
                 "speed": _num(st.min_damping_ratio[1]),
-                "mode": self._mode_at(st.min_damping_ratio[1], -np.nan_to_num(self.damping_ratio, nan=np.inf)),
+                "mode": self._mode_at(
+                    st.min_damping_ratio[1], -np.nan_to_num(self.damping_ratio, nan=np.inf)
+                ),
             },
             "growth_threshold_per_radian": GROWTH_PER_RADIAN,
             "case": {
@@ -171,16 +172,36 @@ class SweepResult:
         }
         both = ("speed", "mode")
         variables = {
-            "frequency": (both, self.frequency, {"units": "rad/s", "long_name": f"modal frequency, {self.frame} frame"}),
-            "frequency_nonrotating": (both, self.modes.frequency_nonrotating,
-                                      {"units": "rad/s", "long_name": "modal frequency, nonrotating frame"}),
-            "frequency_rotating": (both, self.modes.frequency_rotating,
-                                   {"units": "rad/s", "long_name": "modal frequency, rotating frame"}),
-            "real_part": (both, self.real_part, {"units": "1/s", "long_name": "largest real part of the mode"}),
+            "frequency": (
+                both,
+                self.frequency,
+                {"units": "rad/s", "long_name": f"modal frequency, {self.frame} frame"},
+            ),
+            "frequency_nonrotating": (
+                both,
+                self.modes.frequency_nonrotating,
+                {"units": "rad/s", "long_name": "modal frequency, nonrotating frame"},
+            ),
+            "frequency_rotating": (
+                both,
+                self.modes.frequency_rotating,
+                {"units": "rad/s", "long_name": "modal frequency, rotating frame"},
+            ),
+            "real_part": (
+                both,
+                self.real_part,
+                {"units": "1/s", "long_name": "largest real part of the mode"},
+            ),
             "damping_ratio": (both, self.damping_ratio, {"units": "1", "long_name": "damping ratio"}),
-            "unstable": (("speed",), unstable, {"long_name": "speed lies in an unstable range",
-                                                "flag_values": np.array([0, 1], np.int8),
-                                                "flag_meanings": "stable unstable"}),
+            "unstable": (
+                ("speed",),
+                unstable,
+                {
+                    "long_name": "speed lies in an unstable range",
+                    "flag_values": np.array([0, 1], np.int8),
+                    "flag_meanings": "stable unstable",
+                },
+            ),
         }
         attrs = {
             "title": self.case.title,
@@ -213,9 +234,9 @@ def _deutsch_entry(e: DeutschEntry) -> dict:
         "tuning_speed": _num(e.tuning_speed),
         "lag_frequency_per_rev": _num(e.lag_frequency),
         "body_damping": _num(e.body_damping),
-        "required_lag_damping": None if e.required_lag_damping is None else (
-            "infinite" if math.isinf(e.required_lag_damping) else e.required_lag_damping
-        ),
+        "required_lag_damping": None
+        if e.required_lag_damping is None
+        else ("infinite" if math.isinf(e.required_lag_damping) else e.required_lag_damping),
         "installed_lag_damping": e.installed_lag_damping,
         "satisfied": e.satisfied,
     }

@@ -175,7 +175,9 @@ def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
         return None
     # rotor inertia about the pivot, averaged over azimuth (all blades alike)
     e = b.hinge_offset
-    j_rotor = n * (b.blade_mass * h**2 + (b.blade_inertia + 2 * b.blade_static_moment * e + b.blade_mass * e**2) / 2)
+    j_rotor = n * (
+        b.blade_mass * h**2 + (b.blade_inertia + 2 * b.blade_static_moment * e + b.blade_mass * e**2) / 2
+    )
     j = body.value("inertia", dof) + j_rotor
     return j / h**2, body.value("stiffness", dof) / h**2, body.value("damping", dof) / h**2
 

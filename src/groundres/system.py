@@ -71,21 +71,38 @@ class System:
         sel = np.ix_(range(3), range(5), self._local, self._local)
         if self.rotor.identical:
             b = self.rotor.blades[0]
-            arrays = f(speeds, *(getattr(b, p) for p in _BLADE_PARAMS), h,
-                       b.lag_stiffness, b.lag_damping, b.flap_stiffness, b.flap_damping)
+            arrays = f(
+                speeds,
+                *(getattr(b, p) for p in _BLADE_PARAMS),
+                h,
+                b.lag_stiffness,
+                b.lag_damping,
+                b.flap_stiffness,
+                b.flap_damping,
+            )
             one = np.moveaxis(arrays, -1, 0)[(slice(None),) + sel]
             return np.broadcast_to(one[:, None], (len(speeds), self.n_blades) + one.shape[1:])
         per_blade = []
         for b in self.rotor.blades:
-            arrays = f(speeds, *(getattr(b, p) for p in _BLADE_PARAMS), h,
-                       b.lag_stiffness, b.lag_damping, b.flap_stiffness, b.flap_damping)
+            arrays = f(
+                speeds,
+                *(getattr(b, p) for p in _BLADE_PARAMS),
+                h,
+                b.lag_stiffness,
+                b.lag_damping,
+                b.flap_stiffness,
+                b.flap_damping,
+            )
             per_blade.append(np.moveaxis(arrays, -1, 0)[(slice(None),) + sel])
         return np.stack(per_blade, axis=1)
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
         return np.stack(
-            [np.diag([self.body.value(kind, d) for d in self.body.dofs]) for kind in ("inertia", "damping", "stiffness")]
+            [
+                np.diag([self.body.value(kind, d) for d in self.body.dofs])
+                for kind in ("inertia", "damping", "stiffness")
+            ]
         )
 
     def matrices(self, speeds, phase=0.0, harmonics=None):
@@ -108,7 +125,9 @@ class System:
         speeds = np.asarray(speeds, dtype=float)
         if harmonics is None:
             harmonics = self.blade_harmonics(speeds)
-        phase = np.broadcast_to(np.asarray(phase, dtype=float), np.broadcast_shapes(np.shape(phase), speeds.shape))
+        phase = np.broadcast_to(
+            np.asarray(phase, dtype=float), np.broadcast_shapes(np.shape(phase), speeds.shape)
+        )
         psi = mbc.blade_azimuths(self.n_blades, phase)
         weights = np.stack(
             [np.ones_like(psi), np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)], axis=-1

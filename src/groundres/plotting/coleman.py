@@ -98,7 +98,9 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     ax_f.set_xlim(w[0], w[-1])
     frame = "nonrotating" if result.frame == "nonrotating" else "rotating"
     ax_f.set_ylabel(
-        f"modal frequency, {frame} frame / reference [-]" if normalised else f"modal frequency, {frame} frame [{f_unit}]"
+        f"modal frequency, {frame} frame / reference [-]"
+        if normalised
+        else f"modal frequency, {frame} frame [{f_unit}]"
     )
     if show_damping_ratio:
         ax_d.set_ylabel("damping ratio [-]")

@@ -87,10 +87,11 @@ class BladeEquations:
     def at_azimuth(self, psi=azimuth):
         """The three 6 x 6 matrices as functions of the azimuth ``psi``."""
         trig = (1, sp.cos(psi), sp.sin(psi), sp.cos(2 * psi), sp.sin(2 * psi))
-        return tuple(
-            sp.Matrix(6, 6, lambda i, j: sp.expand(sum(c * X[i, j] for c, X in zip(trig, group))))
-            for group in (self.mass, self.damping, self.stiffness)
-        )
+
+        def combine(group):
+            return sp.Matrix(6, 6, lambda i, j: sp.expand(sum(c * X[i, j] for c, X in zip(trig, group))))
+
+        return tuple(combine(group) for group in (self.mass, self.damping, self.stiffness))
 
 
 def _rot_x(a):
@@ -161,9 +162,7 @@ def derive_blade() -> BladeEquations:
     hinge = sp.Matrix([x, y, 0]) + body * (p["hub_height"] * ez) + hub_frame * (p["hinge_offset"] * ex)
     # Lag against the rotation, flap up; the order of the two hinges changes
     # only terms of third order in the coordinates.
-    span = hub_frame * sp.Matrix(
-        [sp.cos(beta) * sp.cos(zeta), -sp.cos(beta) * sp.sin(zeta), sp.sin(beta)]
-    )
+    span = hub_frame * sp.Matrix([sp.cos(beta) * sp.cos(zeta), -sp.cos(beta) * sp.sin(zeta), sp.sin(beta)])
     a_dot = hinge.applyfunc(_time_derivative)
     b_dot = span.applyfunc(_time_derivative)
     kinetic = (
@@ -176,9 +175,7 @@ def derive_blade() -> BladeEquations:
     grad_qd = [kinetic.diff(qd) for qd in RATES]
 
     def hess(grads, variables):
-        return sp.Matrix(
-            6, 6, lambda i, j: sp.expand(sp.simplify(grads[i].diff(variables[j]).subs(zero)))
-        )
+        return sp.Matrix(6, 6, lambda i, j: sp.expand(sp.simplify(grads[i].diff(variables[j]).subs(zero))))
 
     m_t = hess(grad_qd, RATES)  # d2T/dqd dqd
     b_t = hess(grad_qd, COORDS)  # T contains qd' b_t q

@@ -96,7 +96,9 @@ def multiblade_equations(equations: BladeEquations, n_blades: int, body_dofs, fl
             basis[name] = _laurent_trig(n)[0 if name.endswith("c") else 1]
     columns = [(d, LOCAL_DOFS.index(d), sp.Integer(1)) for d in body_dofs]
     columns += [(f"{k}_{n}", LOCAL_DOFS.index(k), basis[n]) for k in kinds for n in mb]
-    mb_mass, mb_damp, mb_stiff = (_blade_laurent(g) for g in (equations.mass, equations.damping, equations.stiffness))
+    mb_mass, mb_damp, mb_stiff = (
+        _blade_laurent(g) for g in (equations.mass, equations.damping, equations.stiffness)
+    )
     b = BODY_SYMBOLS
     body = {
         "mass": {d: b[("mass_" if d in ("x", "y") else "inertia_") + d] for d in BODY_DOFS},
@@ -106,7 +108,7 @@ def multiblade_equations(equations: BladeEquations, n_blades: int, body_dofs, fl
     size = len(columns)
     out = [sp.zeros(size, size) for _ in range(3)]
     for i, (name_i, li, row) in enumerate(columns):
-        for j, (name_j, lj, col) in enumerate(columns):
+        for j, (_, lj, col) in enumerate(columns):
             d1 = _ddt(col)
             d2 = _ddt(d1)
             m_ij, c_ij, k_ij = mb_mass[li, lj], mb_damp[li, lj], mb_stiff[li, lj]
