@@ -115,7 +115,7 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None) 
     sol = modal.track(modal.solve(*mats, blocks), speeds)
     iso = [p for p in (("x", "y"), ("pitch", "roll")) if case.body.pair_isotropic(*p)]
     weights = np.abs(np.diagonal(mats[0], axis1=-2, axis2=-1))
-    found = modal.modes(sol, model.coordinates, weights, speeds, iso)
+    found = modal.modes(sol, modal.identify(sol, model.coordinates, weights, speeds, iso), speeds)
 
     def extremes_at(model_, w):
         return _extremes(modal.block_eigenvalues(*model_.matrices(w), blocks))

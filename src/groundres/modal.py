@@ -152,12 +152,19 @@ class Eigensolution:
         Index of the coupling block each column belongs to.
     blocks : list of int ndarray
         Coordinate indices of each coupling block.
+    harmonics : complex ndarray (n_s, n, M, 2n), optional
+        For periodic motion (Floquet; rotating axes seen from nonrotating ones):
+        amplitude of each nonrotating coordinate at frequency
+        Im(eigenvalue) + orders[m] Omega. None: ``vector`` at order 0 only.
+    orders : int ndarray (M,), optional
     """
 
     eigenvalue: np.ndarray
     vector: np.ndarray
     block: np.ndarray
     blocks: list
+    harmonics: np.ndarray | None = None
+    orders: np.ndarray | None = None
 
 
 def solve(mass, damping, stiffness, blocks) -> Eigensolution:
@@ -396,26 +403,88 @@ def _pair_roots(lam, frac):
     return pairs
 
 
-def modes(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), stickiness=0.25) -> Modes:
+@dataclass
+class Content:
+    """Physical content of every root of a sweep.
+
+    Attributes
+    ----------
+    labels : list of str
+    label_coords : list of tuple of int
+    fraction : ndarray (n_s, 2n, n_labels)
+        Share of each root's weighted squared amplitude in each label.
+    eigenvalue : complex ndarray (n_s, 2n)
+        Root with its frequency as seen from nonrotating axes: for periodic
+        motion, Im(lambda) + m Omega with m the harmonic of largest share
+        (Peters, Lieb & Ahaus 2011, "Interpretation of Floquet eigenvalues and
+        eigenvectors for periodic systems", JAHS 56, 032001).
+    rotating_frequency : ndarray (n_s, 2n)
+        Frequency seen from rotating axes [rad/s], chosen the same way.
+    participation : ndarray (n_s, 2n, M)
+        Share of each harmonic order (``orders``) in the nonrotating frame.
+    orders : int ndarray (M,)
+    """
+
+    labels: list
+    label_coords: list
+    fraction: np.ndarray
+    eigenvalue: np.ndarray
+    rotating_frequency: np.ndarray
+    participation: np.ndarray
+    orders: np.ndarray
+
+
+def identify(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=()) -> Content:
+    """Labels, nonrotating and rotating frequencies of every root from its harmonics."""
+    harmonics = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
+    orders = sol.orders if sol.orders is not None else np.array([0])
+    n_s, _, n_m, n_e = harmonics.shape
+    energy = by_order = None
+    rotating = {}
+    for m, order in enumerate(orders):
+        lam_m = sol.eigenvalue + 1j * order * speeds[:, None]
+        labels, label_coords, e, sh = content(
+            coords, weights, lam_m, harmonics[:, :, m, :], speeds, isotropic_pairs
+        )
+        if energy is None:
+            energy = np.zeros_like(e)
+            by_order = np.zeros((n_s, n_e, n_m))
+        energy += e
+        by_order[..., m] = e.sum(-1)
+        h = (sh.shape[-1] - 1) // 2
+        for k in range(-h, h + 1):
+            rotating[order + k] = rotating.get(order + k, 0) + sh[..., h + k]
+    total = energy.sum(-1, keepdims=True)
+    fraction = energy / np.where(total > 0, total, 1.0)
+    best = orders[np.argmax(by_order, axis=-1)]
+    eigenvalue = sol.eigenvalue + 1j * best * speeds[:, None]
+    shifts = np.array(sorted(rotating))
+    stack = np.stack([rotating[k] for k in shifts], -1)  # (n_s, n_e, K)
+    cand = np.abs(sol.eigenvalue.imag[..., None] + shifts * speeds[:, None, None])
+    top = stack.max(-1, keepdims=True)
+    f_rot = np.where(stack >= top * (1 - 1e-6), cand, np.inf).min(-1)
+    share = by_order / np.where(by_order.sum(-1, keepdims=True) > 0, by_order.sum(-1, keepdims=True), 1.0)
+    return Content(labels, label_coords, fraction, eigenvalue, f_rot, share, orders)
+
+
+def modes(sol: Eigensolution, found: Content, speeds, stickiness=0.25) -> Modes:
     """Gather tracked roots into modes and label them by their content.
 
     Parameters
     ----------
     sol : Eigensolution
         Tracked eigen-solution (see :func:`track`).
-    coords, weights, speeds, isotropic_pairs
-        As for :func:`content`.
+    found : Content
+        Its content (see :func:`identify`).
+    speeds : ndarray (n_s,)
     stickiness : float
         Bonus, in content fraction, for keeping the label a branch had at the
         previous speed; a label moves to another branch only when that branch's
         content in it is larger by more than this.
     """
-    labels, label_coords, energy, shift = content(
-        coords, weights, sol.eigenvalue, sol.vector, speeds, isotropic_pairs
-    )
-    total = energy.sum(-1, keepdims=True)
-    frac = energy / np.where(total > 0, total, 1.0)
-    n_s = sol.eigenvalue.shape[0]
+    labels, label_coords, frac = found.labels, found.label_coords, found.fraction
+    roots = found.eigenvalue
+    n_s = roots.shape[0]
     n_l = len(labels)
     rep = np.zeros((n_s, n_l), int)
     other = np.zeros((n_s, n_l), int)
@@ -424,7 +493,7 @@ def modes(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), stick
         mine = np.array([i for i, lc in enumerate(label_coords) if set(lc) <= set(members.tolist())])
         if 2 * len(mine) != len(cols):
             raise RuntimeError(f"block of {len(members)} coordinates has labels {[labels[i] for i in mine]}")
-        lam_b = sol.eigenvalue[:, cols]
+        lam_b = roots[:, cols]
         frac_b = frac[:, cols][:, :, mine]  # (n_s, 2 nl, nl)
         scale = np.maximum(np.abs(lam_b).max(-1, keepdims=True), 1e-300)
         upper = lam_b.imag > 1e-9 * scale
@@ -463,22 +532,15 @@ def modes(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), stick
         rep[:, mine] = cols[np.take_along_axis(reps, inverse, -1)]
         other[:, mine] = cols[np.take_along_axis(others, inverse, -1)]
     rows = np.arange(n_s)[:, None]
-    lam = sol.eigenvalue[rows, rep]
-    lam_other = sol.eigenvalue[rows, other]
-    shape = np.take_along_axis(sol.vector, rep[:, None, :], axis=2)
-    h = (shift.shape[-1] - 1) // 2
-    sh = shift[rows, rep]  # (n_s, n_m, 2h+1)
-    m = np.arange(-h, h + 1)
-    cand = np.abs(lam.imag[..., None] + m * speeds[:, None, None])
-    best = sh.max(-1, keepdims=True)
-    f_rot = np.where(sh >= best * (1 - 1e-6), cand, np.inf).min(-1)
+    lam = roots[rows, rep]
+    lam_other = roots[rows, other]
     return Modes(
         labels=labels,
         eigenvalue=lam,
         real_part=np.maximum(lam.real, lam_other.real),
         frequency_nonrotating=np.abs(lam.imag),
-        frequency_rotating=f_rot,
-        shape=shape,
+        frequency_rotating=found.rotating_frequency[rows, rep],
+        shape=np.take_along_axis(sol.vector, rep[:, None, :], axis=2),
         energy=(frac[rows, rep] + frac[rows, other]) / 2,
         branch=rep,
     )
