@@ -253,6 +253,73 @@ def _print_result(console, result, out_dir):
 
 
 @main.command()
+@click.argument("case", required=False)
+@click.option("--speed", type=float, required=True, help="Rotor speed, in the case's sweep unit.")
+@click.option("--time", "duration", type=float, default=None, help="Duration [s] [default: 40 revolutions].")
+@click.option("--initial", multiple=True, metavar="NAME=VALUE",
+              help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
+                   "[default: x, y, pitch, roll present = 0.01 and lag1 = 0.01].")
+@click.option("--out", "out", type=click.Path(file_okay=False), default=None,
+              help="Output directory [default: groundres-out/<case name>].")
+def simulate(case, speed, duration, initial, out):
+    """Integrate the periodic equations of CASE in time at one rotor speed.
+
+    Writes simulation.png (body and blade motion) and simulation.csv, and
+    compares the measured growth rate with the largest real part from the
+    eigen- or Floquet analysis.
+    """
+    import numpy as np
+
+    from . import io
+    from . import simulate as sim_module
+    from .analysis import choose_method, root_solver
+    from .params import SPEED_UNITS
+    from .plotting.timehistory import time_history
+    from .system import System
+
+    console = _console()
+    the_case = _load(case)
+    if not speed > 0:
+        _fail_user(f"--speed = {speed!r}: must be > 0 (in {the_case.sweep.unit})")
+    w = speed * SPEED_UNITS[the_case.sweep.unit]
+    duration = duration or 40 * 2 * np.pi / w
+    if not duration > 0:
+        _fail_user(f"--time = {duration!r}: must be > 0 [s]")
+    system = System(the_case.rotor, the_case.body)
+    values = {}
+    for item in initial:
+        key, sep, value = item.partition("=")
+        try:
+            values[key.strip()] = float(value)
+        except ValueError:
+            _fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
+        if not sep:
+            _fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
+    if not values:
+        values = {d: 0.01 for d in the_case.body.dofs} | {"lag1": 0.01}
+    try:
+        q0, v0 = sim_module.initial_state(system, values)
+    except KeyError as err:
+        _fail_user(f"--initial {err.args[0]}")
+    name = Path(case).stem if case else DEFAULT_CASE
+    out_dir = Path(out) if out else Path("groundres-out") / name
+    with _status(console, f"Simulating {duration:.4g} s at {speed:g} {the_case.sweep.unit}..."):
+        sim = sim_module.simulate(system, w, duration, (q0, v0))
+        growth = sim.growth_rate()
+        method = choose_method(the_case)
+        predicted = float(root_solver(the_case, method).roots(w).real.max())
+    fig = time_history(sim, title=the_case.title, growth=growth, predicted=predicted)
+    io.write_figure(fig, out_dir / "simulation.png")
+    header = ["time"] + [c.symbol if c.kind == "body" else f"{c.kind}{c.name}" for c in sim.coordinates]
+    rows = np.column_stack([sim.time, sim.displacement])
+    io.write_text(out_dir / "simulation.csv", ",".join(header) + "\n"
+                  + "\n".join(",".join(f"{v:.10g}" for v in r) for r in rows) + "\n")
+    console.print(f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
+                  f" ({100 * (growth - predicted) / abs(predicted) if predicted else 0:+.3f} %).")
+    console.print(f"Wrote {out_dir}/simulation.png, simulation.csv")
+
+
+@main.command()
 @click.argument("name", required=False)
 def cases(name):
     """List the shipped cases, or print the case file NAME."""

@@ -19,9 +19,9 @@ compares it with other choices and with SciPy's DOP853.
 
 Symmetry (fast Floquet theory, Peters 1995, "Fast Floquet theory and trim for
 multi-bladed rotorcraft", JAHS 39(4)): if advancing the azimuth by
-Delta = 2 pi j / N maps the system onto itself with blade k taking the place of
-blade k + j and the body axes turned by Delta, then Phi(T) = (G^-1 Phi(Delta))^(N/j)
-with G that coordinate map. Only Delta is integrated; the exponents come from
+Delta = 2 pi j / N maps the equations onto themselves with blade k + j taking
+the place of blade k, then Phi(T) = (G^-1 Phi(Delta))^(N/j) with G that
+permutation. Only Delta is integrated; the exponents come from
 R = G^-1 Phi(Delta) and are unique up to multiples of (N/j) Omega.
 """
 
@@ -89,7 +89,8 @@ class Symmetry:
     angle : float
         Azimuth interval Delta = 2 pi j / N [rad].
     g : ndarray (n, n)
-        Orthogonal map of coordinates: q(t + Delta / Omega) = g q~(t).
+        Permutation of coordinates with X(psi + Delta) = g X(psi) g' for the
+        mass, damping and stiffness matrices X.
     """
 
     shift: int
@@ -98,42 +99,26 @@ class Symmetry:
 
 
 def symmetry(system: System) -> Symmetry:
-    """The shortest azimuth shift under which the equations repeat.
+    """The shortest azimuth shift under which the blade-coordinate equations repeat.
 
-    Blades must repeat under the shift (blade k like blade k + j); the body
-    must be unchanged by turning its axes through 2 pi j / N: any angle for an
-    isotropic body, half a turn (a change of sign) for any body.
+    In blade coordinates (body axes nonrotating) every coefficient is a sum over
+    blades of functions of each blade's own azimuth, so advancing the azimuth by
+    2 pi j / N only hands each blade's role to blade k + j: the equations repeat
+    when the blades do (blade k like blade k + j), whatever the body.
     """
-    rotor, body = system.rotor, system.body
+    rotor = system.rotor
     n = rotor.n_blades
     for j in range(1, n + 1):
-        if n % j:
-            continue
-        if any(rotor.blades[k] != rotor.blades[(k + j) % n] for k in range(n)):
-            continue
-        angle = 2 * math.pi * j / n
-        half_or_full = math.isclose(math.cos(angle), -1.0) or math.isclose(math.cos(angle), 1.0)
-        if j < n and not (half_or_full or body.isotropic):
-            continue
-        return Symmetry(j, angle, _coordinate_map(system, j, angle))
+        if n % j == 0 and all(rotor.blades[k] == rotor.blades[(k + j) % n] for k in range(n)):
+            return Symmetry(j, 2 * math.pi * j / n, _coordinate_map(system, j))
     raise AssertionError("the full period is always a symmetry")
 
 
-def _coordinate_map(system: System, shift: int, angle: float) -> np.ndarray:
-    """g with q(t + Delta) = g q~(t): body axes turned by Delta, blade k+j -> blade k."""
+def _coordinate_map(system: System, shift: int) -> np.ndarray:
+    """g with X(psi + Delta) = g X(psi) g' (blade k + j takes blade k's place)."""
     size, n_body, n = system.size, system.n_body, system.n_blades
     g = np.zeros((size, size))
-    index = {d: i for i, d in enumerate(system.body.dofs)}
-    c, s = math.cos(angle), math.sin(angle)
-    done = set()
-    for a, b in (("x", "y"), ("pitch", "roll")):
-        if a in index and b in index:
-            ia, ib = index[a], index[b]
-            g[np.ix_([ia, ib], [ia, ib])] = [[c, -s], [s, c]]
-            done |= {ia, ib}
-    for d, i in index.items():
-        if i not in done:
-            g[i, i] = round(c)  # half turn: -1; full turn: +1
+    g[:n_body, :n_body] = np.eye(n_body)
     for kind in range(len(system.blade_kinds)):
         base = n_body + kind * n
         for k in range(n):
@@ -176,9 +161,17 @@ def rates_per_radian(system: System, speeds, probes=4) -> np.ndarray:
 
 
 def grid_matrices(system: System, angle: float, steps: int, tableau=BUTCHER6):
-    """F_a, F_b, F_c at the stage nodes of a fixed grid: each (steps, stages, n, 2n)."""
-    h = angle / steps
-    return node_matrices(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h)
+    """F_a, F_b, F_c at the stage nodes of a fixed grid: each (steps, stages, n, 2n).
+
+    Kept on the system (a few grids) so that repeated analyses reuse them.
+    """
+    key = (angle, int(steps), id(tableau))
+    if key not in system.grid_cache:
+        if len(system.grid_cache) > 16:
+            system.grid_cache.clear()
+        h = angle / steps
+        system.grid_cache[key] = node_matrices(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h)
+    return system.grid_cache[key]
 
 
 _POOL = None
@@ -349,12 +342,9 @@ def _integrate(system, speeds, angle, samples, tolerance, scale, tableau):
     sampled = np.empty((samples, len(speeds), n2, n2)) if samples else None
     previous = {}  # speed index -> (steps, phi) of its last rejected run
     pending = np.arange(len(speeds))
-    grids = {}
-
     def run(sel, count, with_samples):
-        if count not in grids:
-            grids[count] = grid_matrices(system, angle, int(count), tableau)
-        return transition(system, speeds[sel], angle, int(count), with_samples, tableau, grids[count])
+        nodes = grid_matrices(system, angle, int(count), tableau)
+        return transition(system, speeds[sel], angle, int(count), with_samples, tableau, nodes)
 
     for _ in range(10):
         if not len(pending):
@@ -368,7 +358,8 @@ def _integrate(system, speeds, angle, samples, tolerance, scale, tableau):
                 ref_steps = np.array([previous[i][0] for i in sel])
                 ref_phi = np.stack([previous[i][1] for i in sel])
             else:
-                coarse = ladder[max(np.searchsorted(ladder, count) - 2, 0)]
+                pos = np.searchsorted(ladder, count)
+                coarse = ladder[pos - 2] if pos >= 2 else count // 2
                 ref_steps = np.full(len(sel), coarse)
                 ref_phi = run(sel, coarse, 0)
             size = np.maximum(np.abs(fine_phi).max((-1, -2)), 1.0)

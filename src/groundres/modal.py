@@ -200,23 +200,28 @@ def _assign_min(cost):
     return best
 
 
-def track(sol: Eigensolution, speeds) -> Eigensolution:
-    """Reorder columns at each speed so that each column is a continuous branch.
+def track_order(eigenvalue, vector, block, speeds) -> np.ndarray:
+    """Column order at each speed that makes each column one continuous branch.
 
     Cost of joining root i at one speed to root j at the next: 1 - MAC of the
-    eigenvectors plus twice the eigenvalue change relative to its size. The
-    costs of all speed steps are formed at once and matched by
+    vectors plus twice the eigenvalue change relative to its size, within each
+    block. The costs of all speed steps are formed at once and matched by
     :func:`_assign_min`; chaining the matches is the only step per speed.
+
+    Returns
+    -------
+    int ndarray (n_s, n_e)
+        ``eigenvalue[s, order[s]]`` is tracked.
     """
-    lam, vec = sol.eigenvalue, sol.vector
+    lam, vec = eigenvalue, vector
     n_s = lam.shape[0]
     floor = 1e-3 * max(float(np.max(np.abs(lam))), 1e-12)
     order = np.tile(np.arange(lam.shape[1]), (n_s, 1))
-    for blk in np.unique(sol.block):
-        cols = np.flatnonzero(sol.block == blk)
-        if n_s < 2:
-            break
-        rows = sol.blocks[blk]
+    if n_s < 2:
+        return order
+    for blk in np.unique(block):
+        cols = np.flatnonzero(block == blk)
+        rows = np.flatnonzero(np.abs(vec[:, :, cols]).sum((0, 2)) > 0)
         v = vec[:, rows[:, None], cols]  # (n_s, r, m)
         mac = np.abs(np.einsum("sri,srj->sij", v[:-1].conj(), v[1:])) ** 2
         lb = lam[:, cols]
@@ -227,9 +232,23 @@ def track(sol: Eigensolution, speeds) -> Eigensolution:
         for k in range(1, n_s):
             chain[k] = step[k - 1][chain[k - 1]]
         order[:, cols] = cols[chain]
-    rows = np.arange(n_s)[:, None]
+    return order
+
+
+def track(sol: Eigensolution, speeds) -> Eigensolution:
+    """The eigen-solution with its columns ordered into continuous branches (:func:`track_order`)."""
+    order = track_order(sol.eigenvalue, sol.vector, sol.block, speeds)
+    rows = np.arange(order.shape[0])[:, None]
+    harmonics = None
+    if sol.harmonics is not None:
+        harmonics = np.take_along_axis(sol.harmonics, order[:, None, None, :], axis=3)
     return Eigensolution(
-        lam[rows, order], np.take_along_axis(vec, order[:, None, :], axis=2), sol.block, sol.blocks
+        sol.eigenvalue[rows, order],
+        np.take_along_axis(sol.vector, order[:, None, :], axis=2),
+        sol.block,
+        sol.blocks,
+        harmonics,
+        sol.orders,
     )
 
 
@@ -357,6 +376,11 @@ class Modes:
     branch : int ndarray (n_s, n_m)
         Tracked branch (column of the eigen-solution) of the representative
         root: where it changes, the label moved to another branch (a veering).
+    participation : ndarray (n_s, n_m, M)
+        Share of each harmonic ``orders`` in the mode's motion seen from
+        nonrotating axes (frequency offset orders * Omega); one order (0) for
+        time-invariant multiblade analysis.
+    orders : int ndarray (M,)
     """
 
     labels: list
@@ -367,6 +391,8 @@ class Modes:
     shape: np.ndarray
     energy: np.ndarray
     branch: np.ndarray
+    participation: np.ndarray
+    orders: np.ndarray
 
     @property
     def damping_ratio(self) -> np.ndarray:
@@ -379,27 +405,29 @@ class Modes:
 def _pair_roots(lam, frac):
     """Group the roots of one block at one speed into modes (pairs of columns).
 
-    Complex roots pair with their conjugates; real roots pair by content.
-    Returns a list of (representative column, other column).
+    Roots above the real axis pair with the nearest conjugate below it; the
+    rest (real roots, and any left unmatched) pair by content. Returns a list
+    of (representative column, other column), the representative being the
+    root with Im >= 0, or the larger real part.
     """
     scale = max(np.abs(lam).max(), 1e-300)
     upper = np.flatnonzero(lam.imag > 1e-9 * scale)
     lower = np.flatnonzero(lam.imag < -1e-9 * scale)
-    real = np.flatnonzero(np.abs(lam.imag) <= 1e-9 * scale)
+    rest = list(np.flatnonzero(np.abs(lam.imag) <= 1e-9 * scale))
     pairs = []
-    if len(upper):
-        # roots of a real matrix come in exact conjugate pairs
+    if len(upper) and len(lower):
         cost = np.abs(lam[upper][:, None] - lam[lower][None, :].conj())
         r, c = linear_sum_assignment(cost)
         pairs += [(upper[i], lower[j]) for i, j in zip(r, c)]
-    if len(real):
-        order = sorted(real, key=lambda j: (int(np.argmax(frac[j])), -lam[j].real))
-        pairs += [
-            (order[i], order[i + 1])
-            if lam[order[i]].real >= lam[order[i + 1]].real
-            else (order[i + 1], order[i])
-            for i in range(0, len(order) - 1, 2)
-        ]
+        rest += [upper[i] for i in set(range(len(upper))) - set(r)]
+        rest += [lower[j] for j in set(range(len(lower))) - set(c)]
+    else:
+        rest += list(upper) + list(lower)
+    order = sorted(rest, key=lambda j: (int(np.argmax(frac[j])), -lam[j].real))
+    for i in range(0, len(order) - 1, 2):
+        a, b = order[i], order[i + 1]
+        key = lambda j: (lam[j].imag >= 0, lam[j].real)  # noqa: E731
+        pairs.append((a, b) if key(a) >= key(b) else (b, a))
     return pairs
 
 
@@ -434,8 +462,34 @@ class Content:
     orders: np.ndarray
 
 
-def identify(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=()) -> Content:
-    """Labels, nonrotating and rotating frequencies of every root from its harmonics."""
+def _sticky_choice(share, tie_break, margin):
+    """Index of the largest share at each speed, keeping the previous choice of the
+    same column while it is within ``margin`` of the largest.
+
+    share : (n_s, n_e, K); tie_break : (n_s, n_e, K), smaller wins among equal shares.
+    """
+    top = share.max(-1, keepdims=True)
+    near = share >= top - 1e-9 * np.maximum(top, 1e-300)
+    best = np.argmin(np.where(near, tie_break, np.inf), axis=-1)  # (n_s, n_e)
+    if margin <= 0 or share.shape[0] < 2:
+        return best
+    choice = best.copy()
+    cols = np.arange(share.shape[1])
+    for s in range(1, share.shape[0]):
+        prev = choice[s - 1]
+        keep = share[s, cols, prev] >= share[s, cols, best[s]] - margin
+        choice[s] = np.where(keep, prev, best[s])
+    return choice
+
+
+def identify(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=(), margin=0.0) -> Content:
+    """Labels, nonrotating and rotating frequencies of every root from its harmonics.
+
+    The frequency seen from a frame is Im(lambda) + m Omega with m the harmonic
+    of largest share in that frame. With ``margin`` > 0 (tracked branches of a
+    periodic system) a branch keeps its harmonic while it stays within
+    ``margin`` of the largest share, so that frequencies stay continuous.
+    """
     harmonics = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
     orders = sol.orders if sol.orders is not None else np.array([0])
     n_s, _, n_m, n_e = harmonics.shape
@@ -454,16 +508,22 @@ def identify(sol: Eigensolution, coords, weights, speeds, isotropic_pairs=()) ->
         h = (sh.shape[-1] - 1) // 2
         for k in range(-h, h + 1):
             rotating[order + k] = rotating.get(order + k, 0) + sh[..., h + k]
-    total = energy.sum(-1, keepdims=True)
-    fraction = energy / np.where(total > 0, total, 1.0)
-    best = orders[np.argmax(by_order, axis=-1)]
+
+    def shares(x):
+        total = x.sum(-1, keepdims=True)
+        return x / np.where(total > 0, total, 1.0)
+
+    fraction = shares(energy)
+    share = shares(by_order)
+    omega = sol.eigenvalue.imag[..., None]
+    nr_freq = np.abs(omega + orders * speeds[:, None, None])
+    best = orders[_sticky_choice(share, nr_freq, margin)]
     eigenvalue = sol.eigenvalue + 1j * best * speeds[:, None]
     shifts = np.array(sorted(rotating))
-    stack = np.stack([rotating[k] for k in shifts], -1)  # (n_s, n_e, K)
-    cand = np.abs(sol.eigenvalue.imag[..., None] + shifts * speeds[:, None, None])
-    top = stack.max(-1, keepdims=True)
-    f_rot = np.where(stack >= top * (1 - 1e-6), cand, np.inf).min(-1)
-    share = by_order / np.where(by_order.sum(-1, keepdims=True) > 0, by_order.sum(-1, keepdims=True), 1.0)
+    rot_share = shares(np.stack([rotating[k] for k in shifts], -1))  # (n_s, n_e, K)
+    rot_freq = np.abs(omega + shifts * speeds[:, None, None])
+    pick = _sticky_choice(rot_share, rot_freq, margin)
+    f_rot = np.take_along_axis(rot_freq, pick[..., None], -1)[..., 0]
     return Content(labels, label_coords, fraction, eigenvalue, f_rot, share, orders)
 
 
@@ -543,4 +603,6 @@ def modes(sol: Eigensolution, found: Content, speeds, stickiness=0.25) -> Modes:
         shape=np.take_along_axis(sol.vector, rep[:, None, :], axis=2),
         energy=(frac[rows, rep] + frac[rows, other]) / 2,
         branch=rep,
+        participation=found.participation[rows, rep],
+        orders=found.orders,
     )

@@ -185,9 +185,15 @@ def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
 def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     """Deutsch-criterion lag damping for each body mode (see module docstring).
 
-    Uses the blade of smallest lag damping for nu, S and the installed damper.
+    Dissimilar blades are smeared: every property is averaged over the blades
+    (the constant-coefficient approximation, which Hammond 1974 shows can
+    miss the instability a failed damper causes; the exact value does not).
     """
-    blade = min(rotor.blades, key=lambda b: b.lag_damping)
+    from dataclasses import fields
+
+    from .params import Blade
+
+    blade = Blade(**{f.name: float(np.mean([getattr(b, f.name) for b in rotor.blades])) for f in fields(Blade)})
     n = rotor.n_blades
     k1 = blade.lag_stiffness / blade.blade_inertia
     k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia

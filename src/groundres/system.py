@@ -47,6 +47,15 @@ class System:
             + [self.n_body + j * self.n_blades + k for j in range(len(self.blade_kinds))]
             for k in range(self.n_blades)
         ]
+        # Scatter plan: entries of blade matrices that land on a blade row or
+        # column are written once; body-body entries are summed over blades.
+        nl = len(self._local)
+        glob = np.array(self._global)  # (N, nl)
+        rows = np.broadcast_to(glob[:, :, None], (self.n_blades, nl, nl))
+        cols = np.broadcast_to(glob[:, None, :], (self.n_blades, nl, nl))
+        own = ~((rows < self.n_body) & (cols < self.n_body))
+        self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
+        self.grid_cache = {}
 
     @cached_property
     def coordinates(self) -> list[Coordinate]:
@@ -137,8 +146,10 @@ class System:
         out[..., : self.n_body, : self.n_body] += self.body_matrices().reshape(
             (3,) + (1,) * phase.ndim + (self.n_body, self.n_body)
         )
-        for k, g in enumerate(self._global):
-            out[..., np.ix_(g, g)[0], np.ix_(g, g)[1]] += blades[..., k, :, :]
+        nb = self.n_body
+        out[..., :nb, :nb] += blades[..., :nb, :nb].sum(-3)
+        flat, rows, cols = self._scatter
+        out[..., rows, cols] = blades.reshape(blades.shape[:-3] + (-1,))[..., flat]
         return out
 
     # -- time-invariant forms -------------------------------------------------
@@ -210,3 +221,49 @@ class System:
                 t_dot[(slice(None),) + ij] = w * d_rot
                 t_ddot[(slice(None),) + ij] = w**2 * d2_rot
         return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
+
+    # -- nonrotating view of periodic motion ------------------------------------
+
+    def to_multiblade(self, q, phase):
+        """Blade-coordinate displacements -> multiblade coordinates at blade-1 azimuths.
+
+        Parameters
+        ----------
+        q : ndarray (K, ..., n, m)
+            Displacements in blade coordinates at K instants.
+        phase : ndarray (K,)
+            Azimuth of blade 1 at those instants [rad].
+        """
+        basis, _, _ = mbc.multiblade_basis(self.n_blades, np.asarray(phase, dtype=float))
+        scale = np.array([1.0 if name in ("0", "d") else 2.0 for name, _ in mbc.multiblade_names(self.n_blades)])
+        inverse = scale[:, None] * np.swapaxes(basis, -1, -2) / self.n_blades  # (K, N, N)
+        inverse = inverse.reshape(inverse.shape[:1] + (1,) * (q.ndim - 3) + inverse.shape[1:])
+        out = np.array(q, dtype=complex)
+        for j in range(len(self.blade_kinds)):
+            s = slice(self.n_body + j * self.n_blades, self.n_body + (j + 1) * self.n_blades)
+            out[..., s, :] = inverse @ q[..., s, :]
+        return out
+
+    def nonrotating_harmonics(self, q, phase, max_order):
+        """Harmonics of periodic blade-coordinate motion in multiblade coordinates.
+
+        Parameters
+        ----------
+        q : ndarray (K, n_s, n, m)
+            One period of a periodic displacement p(psi) (e.g. a Floquet mode times
+            exp(-lambda t)) in blade coordinates, at K equally spaced azimuths.
+        phase : ndarray (K,)
+            The azimuths, psi_s = 2 pi s / K.
+        max_order : int
+            Harmonics -max_order..max_order are returned (max_order < K/2).
+
+        Returns
+        -------
+        harmonics : ndarray (n_s, n, 2 max_order + 1, m)
+            Amplitude of each multiblade coordinate at frequency offset order * Omega.
+        orders : ndarray (2 max_order + 1,)
+        """
+        p = self.to_multiblade(q, phase)
+        orders = np.arange(-max_order, max_order + 1)
+        kernel = np.exp(-1j * np.outer(orders, phase)) / len(phase)  # (M, K)
+        return np.einsum("mk,ksnj->snmj", kernel, p), orders
