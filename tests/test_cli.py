@@ -151,10 +151,38 @@ def test_equations_prints_matrices(tmp_path):
     assert latex.exit_code == 0 and "\\left[" in latex.output
 
 
-def test_overrides_not_yet_supported_is_a_clear_error(tmp_path):
+def test_blade_overrides_run_with_floquet(tmp_path):
     text = GOOD + "\n[[rotor.blade]]\nindex = 1\nlag_damping = 0.0\n"
+    out = tmp_path / "o"
+    result = run("run", write_case(tmp_path, text), "--out", str(out))
+    assert result.exit_code == 0, result.output
+    assert json.loads((out / "summary.json").read_text())["method"] == "floquet"
+
+
+def test_eigen_on_a_periodic_case_is_a_clear_error(tmp_path):
+    text = GOOD.replace('unit = "rad/s"', 'unit = "rad/s"\nmethod = "eigen"')
+    text += "\n[[rotor.blade]]\nindex = 1\nlag_damping = 0.0\n"
     result = run("run", write_case(tmp_path, text), "--out", str(tmp_path / "o"))
-    assert result.exit_code == 2 and "not yet supported" in result.output
+    assert result.exit_code == 2 and "method = 'eigen'" in result.output and "floquet" in result.output
+
+
+def test_bad_blade_override_names_the_blade(tmp_path):
+    text = GOOD + "\n[[rotor.blade]]\nindex = 5\nlag_damping = 0.0\n"
+    result = run("run", write_case(tmp_path, text), "--out", str(tmp_path / "o"))
+    assert result.exit_code == 2 and "index" in result.output and "5" in result.output
+    text = GOOD + "\n[[rotor.blade]]\nindex = 2\nlag_damping = -3.0\n"
+    result = run("run", write_case(tmp_path, text), "--out", str(tmp_path / "o"))
+    assert result.exit_code == 2 and "lag_damping" in result.output and "-3.0" in result.output
+
+
+def test_simulate_writes_a_picture_and_reports_growth(tmp_path):
+    out = tmp_path / "s"
+    result = run("simulate", "hammond-undamped", "--speed", "250", "--time", "6", "--out", str(out))
+    assert result.exit_code == 0, result.output
+    assert "Measured growth rate" in result.output
+    assert (out / "simulation.png").exists() and (out / "simulation.csv").exists()
+    bad = run("simulate", "hammond-undamped", "--speed", "250", "--initial", "z=1")
+    assert bad.exit_code == 2 and "'z'" in bad.output
 
 
 def test_real_entry_point_exit_code(tmp_path):

@@ -99,7 +99,7 @@ class _Solver:
     def _finish(self, sol, speeds):
         """Labels and frequencies of tracked roots, harmonics kept continuous along branches."""
         weights = self.weights(speeds)
-        found = modal.identify(sol, self.nr_coords, weights, speeds, self.iso, margin=0.2)
+        found = modal.identify(sol, self.nr_coords, weights, speeds, self.iso)
         labelled = modal.Eigensolution(
             sol.eigenvalue, sol.vector, np.zeros(sol.vector.shape[-1], int), [np.arange(len(self.nr_coords))]
         )

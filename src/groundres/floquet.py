@@ -75,7 +75,7 @@ STEP_SCALE = 0.3
 #: Rate [1/rad] added for the azimuth variation of the coefficients themselves.
 HARMONIC_RATE = 2.0
 #: Accuracy asked of the transition matrix (entries, relative to max(1, |Phi|)).
-TOLERANCE = 2e-10
+TOLERANCE = 5e-11
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,13 @@ def speed_axis(result):
     return SPEED_UNITS[sweep.unit], sweep.unit
 
 
-def _broken(x, y, branch):
-    """Insert gaps where a label moves to another branch (no vertical joins)."""
-    cut = np.flatnonzero(branch[1:] != branch[:-1]) + 1
+def _broken(x, y, branch, jump=None):
+    """Insert gaps where a label moves to another branch, or (periodic systems)
+    where its identified frequency jumps by a harmonic (no vertical joins)."""
+    cut = branch[1:] != branch[:-1]
+    if jump is not None:
+        cut |= np.abs(np.diff(y)) > jump[1:]
+    cut = np.flatnonzero(cut) + 1
     return np.insert(x.astype(float), cut, np.nan), np.insert(y.astype(float), cut, np.nan)
 
 
@@ -80,14 +84,15 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
             ax.axvspan(s / factor, e / factor, color="#d62728", alpha=0.12, lw=0)
     grows = result.real_part > growth_threshold(result.rotor_speed)[:, None]
     branch = result.modes.branch
+    jump = 0.4 * w if len(result.modes.orders) > 1 else None  # a harmonic is Omega
     for i, label in enumerate(result.labels):
         colour = label_colour(label, i)
         style = "--" if "flap" in label or label == "coning" else "-"
-        ax_f.plot(*_broken(w, freq[:, i], branch[:, i]), style, color=colour, lw=1.6, label=label)
+        ax_f.plot(*_broken(w, freq[:, i], branch[:, i], jump), style, color=colour, lw=1.6, label=label)
         ax_d.plot(*_broken(w, lower[:, i], branch[:, i]), style, color=colour, lw=1.6)
         if grows[:, i].any():
             hot = np.where(grows[:, i], freq[:, i], np.nan)
-            ax_f.plot(*_broken(w, hot, branch[:, i]), "-", color=colour, lw=4.0, alpha=0.5)
+            ax_f.plot(*_broken(w, hot, branch[:, i], jump), "-", color=colour, lw=4.0, alpha=0.5)
     # 1/rev (and 2/rev) references
     speeds = np.array([w[0], w[-1]])
     ax_f.plot(speeds, speeds, ":", color="0.45", lw=1.0, label="1/rev")
