@@ -13,8 +13,13 @@ from groundres import analyze, floquet, modal, simulate
 from groundres.system import System
 
 PITCH_ROLL = dict(
-    inertia_pitch=2.5e4, inertia_roll=9e3, stiffness_pitch=4e6, stiffness_roll=2e6,
-    damping_pitch=2e4, damping_roll=1e4, hub_height=1.8,
+    inertia_pitch=2.5e4,
+    inertia_roll=9e3,
+    stiffness_pitch=4e6,
+    stiffness_roll=2e6,
+    damping_pitch=2e4,
+    damping_roll=1e4,
+    hub_height=1.8,
 )
 
 
@@ -27,8 +32,9 @@ CASES = {
     "two blades, anisotropic hub": lambda: make_case(n_blades=2),
     "three blades with flap, one stiffer": lambda: replace(
         make_case(n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5)),
-        rotor=make_case(n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5))
-        .rotor.with_blade(2, lag_stiffness=3e5),
+        rotor=make_case(
+            n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5)
+        ).rotor.with_blade(2, lag_stiffness=3e5),
     ),
     "pitch, roll, x, y with flap, one damper inoperative": lambda: one_damper(
         make_case(flap=True, dofs=("pitch", "roll", "x", "y"), body=PITCH_ROLL)
@@ -45,7 +51,9 @@ def reference_monodromy(system, speed):
         m, c, k = system.matrices(np.array([speed]), np.array([speed * t]), harmonics)[:, 0]
         return (modal.state_matrix(m, c, k) @ y.reshape(2 * n, 2 * n)).ravel()
 
-    sol = solve_ivp(rhs, (0, 2 * np.pi / speed), np.eye(2 * n).ravel(), method="DOP853", rtol=1e-13, atol=1e-14)
+    sol = solve_ivp(
+        rhs, (0, 2 * np.pi / speed), np.eye(2 * n).ravel(), method="DOP853", rtol=1e-13, atol=1e-14
+    )
     return sol.y[:, -1].reshape(2 * n, 2 * n)
 
 
@@ -84,8 +92,12 @@ def test_a_failed_damper_leaves_no_shortcut():
 
 @pytest.mark.parametrize(
     "case",
-    [make_case(sweep=(3.0, 42.0, 80)),
-     make_case(n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5), sweep=(3.0, 42.0, 80))],
+    [
+        make_case(sweep=(3.0, 42.0, 80)),
+        make_case(
+            n_blades=3, flap=True, blade=dict(lag_stiffness=2e5, flap_stiffness=1e5), sweep=(3.0, 42.0, 80)
+        ),
+    ],
     ids=["hammond", "three blades with flap"],
 )
 def test_floquet_equals_multiblade_eigen_for_identical_blades(case):
@@ -101,8 +113,9 @@ def test_floquet_equals_multiblade_eigen_for_identical_blades(case):
 
 @pytest.mark.parametrize("n_blades", [2, 4])
 def test_floquet_equals_rotating_axes_eigen_for_an_isotropic_hub(n_blades):
-    case = one_damper(make_case(n_blades=n_blades, body=dict(mass_y=8026.6, damping_y=51078.7),
-                                sweep=(3.0, 42.0, 60)))
+    case = one_damper(
+        make_case(n_blades=n_blades, body=dict(mass_y=8026.6, damping_y=51078.7), sweep=(3.0, 42.0, 60))
+    )
     eigen = analyze(case)
     flq = analyze(case, method="floquet")
     assert eigen.method == "rotating-eigen" and flq.method == "floquet"

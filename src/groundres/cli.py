@@ -256,11 +256,20 @@ def _print_result(console, result, out_dir):
 @click.argument("case", required=False)
 @click.option("--speed", type=float, required=True, help="Rotor speed, in the case's sweep unit.")
 @click.option("--time", "duration", type=float, default=None, help="Duration [s] [default: 40 revolutions].")
-@click.option("--initial", multiple=True, metavar="NAME=VALUE",
-              help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
-                   "[default: x, y, pitch, roll present = 0.01 and lag1 = 0.01].")
-@click.option("--out", "out", type=click.Path(file_okay=False), default=None,
-              help="Output directory [default: groundres-out/<case name>].")
+@click.option(
+    "--initial",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
+    "[default: x, y, pitch, roll present = 0.01 and lag1 = 0.01].",
+)
+@click.option(
+    "--out",
+    "out",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Output directory [default: groundres-out/<case name>].",
+)
 def simulate(case, speed, duration, initial, out):
     """Integrate the periodic equations of CASE in time at one rotor speed.
 
@@ -312,10 +321,14 @@ def simulate(case, speed, duration, initial, out):
     io.write_figure(fig, out_dir / "simulation.png")
     header = ["time"] + [c.symbol if c.kind == "body" else f"{c.kind}{c.name}" for c in sim.coordinates]
     rows = np.column_stack([sim.time, sim.displacement])
-    io.write_text(out_dir / "simulation.csv", ",".join(header) + "\n"
-                  + "\n".join(",".join(f"{v:.10g}" for v in r) for r in rows) + "\n")
-    console.print(f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
-                  f" ({100 * (growth - predicted) / abs(predicted) if predicted else 0:+.3f} %).")
+    io.write_text(
+        out_dir / "simulation.csv",
+        ",".join(header) + "\n" + "\n".join(",".join(f"{v:.10g}" for v in r) for r in rows) + "\n",
+    )
+    console.print(
+        f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
+        f" ({100 * (growth - predicted) / abs(predicted) if predicted else 0:+.3f} %)."
+    )
     console.print(f"Wrote {out_dir}/simulation.png, simulation.csv")
 
 

@@ -101,8 +101,15 @@ def simulate(system: System, speed: float, duration: float, initial, rtol: float
 
     q0, v0 = (np.asarray(a, dtype=float) for a in initial)
     times = np.linspace(0.0, duration, points)
-    sol = solve_ivp(rhs, (0.0, duration), np.concatenate([q0, v0]), method="DOP853", t_eval=times,
-                    rtol=rtol, atol=rtol * 1e-3 * max(np.abs(np.concatenate([q0, v0])).max(), 1e-12))
+    sol = solve_ivp(
+        rhs,
+        (0.0, duration),
+        np.concatenate([q0, v0]),
+        method="DOP853",
+        t_eval=times,
+        rtol=rtol,
+        atol=rtol * 1e-3 * max(np.abs(np.concatenate([q0, v0])).max(), 1e-12),
+    )
     if not sol.success:
         raise RuntimeError(f"time integration failed: {sol.message}")
     return Simulation(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed))

@@ -193,7 +193,9 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
 
     from .params import Blade
 
-    blade = Blade(**{f.name: float(np.mean([getattr(b, f.name) for b in rotor.blades])) for f in fields(Blade)})
+    blade = Blade(
+        **{f.name: float(np.mean([getattr(b, f.name) for b in rotor.blades])) for f in fields(Blade)}
+    )
     n = rotor.n_blades
     k1 = blade.lag_stiffness / blade.blade_inertia
     k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia

@@ -235,7 +235,9 @@ class System:
             Azimuth of blade 1 at those instants [rad].
         """
         basis, _, _ = mbc.multiblade_basis(self.n_blades, np.asarray(phase, dtype=float))
-        scale = np.array([1.0 if name in ("0", "d") else 2.0 for name, _ in mbc.multiblade_names(self.n_blades)])
+        scale = np.array(
+            [1.0 if name in ("0", "d") else 2.0 for name, _ in mbc.multiblade_names(self.n_blades)]
+        )
         inverse = scale[:, None] * np.swapaxes(basis, -1, -2) / self.n_blades  # (K, N, N)
         inverse = inverse.reshape(inverse.shape[:1] + (1,) * (q.ndim - 3) + inverse.shape[1:])
         out = np.array(q, dtype=complex)

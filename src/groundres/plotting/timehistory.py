@@ -41,8 +41,13 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None):
     if tilt:
         ax2 = ax.twinx() if trans else ax
         for i in tilt:
-            ax2.plot(t, np.degrees(sim.displacement[:, i]), lw=1.0, ls="--",
-                     label=f"body {sim.coordinates[i].name} [deg]")
+            ax2.plot(
+                t,
+                np.degrees(sim.displacement[:, i]),
+                lw=1.0,
+                ls="--",
+                label=f"body {sim.coordinates[i].name} [deg]",
+            )
         ax2.set_ylabel("body rotation [deg]")
         if ax2 is not ax:
             ax2.legend(loc="upper right", fontsize=8)
@@ -58,8 +63,13 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None):
     log_ax.semilogy(t, norm / norm[0], color="C0", lw=0.9, label="state norm (each coordinate scaled)")
     if predicted is not None:
         anchor = norm[-1] / norm[0]
-        log_ax.semilogy(t, anchor * np.exp(predicted * (t - t[-1])), ":", color="0.3",
-                        label=f"slope of the largest real part, {predicted:.4g} 1/s")
+        log_ax.semilogy(
+            t,
+            anchor * np.exp(predicted * (t - t[-1])),
+            ":",
+            color="0.3",
+            label=f"slope of the largest real part, {predicted:.4g} 1/s",
+        )
     log_ax.set_ylabel("amplitude / initial [-]")
     log_ax.legend(loc="upper left", fontsize=8)
     for ax in (*axes, log_ax):
