@@ -94,10 +94,11 @@ def main():
         f"symmetry shift {sol.symmetry.shift} of {system.n_blades} blades"
     )
     print(
-        f"steps per revolution: min {sol.steps.min()}, median {int(np.median(sol.steps))}, max {sol.steps.max()}"
+        f"steps per revolution: min {sol.steps.min()}, median {int(np.median(sol.steps))}, "
+        f"max {sol.steps.max()}"
     )
     print(f"groundres floquet.solve:          {ours:8.3f} s  (best of 3; target < 0.5 s)")
-    extrapolated = " (timed on %d speeds, scaled)" % len(pick) if len(pick) < len(speeds) else ""
+    extrapolated = f" (timed on {len(pick)} speeds, scaled)" if len(pick) < len(speeds) else ""
     print(f"solve_ivp DOP853 rtol 1e-10 loop: {base_time:8.3f} s{extrapolated}")
     print(f"ratio (baseline / groundres):     {base_time / ours:8.1f} x   (target >= 50 x)")
     print(
