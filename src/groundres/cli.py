@@ -42,6 +42,9 @@ class _Group(click.Group):
             return super().invoke(ctx)
         except (click.ClickException, click.exceptions.Exit, click.Abort, SystemExit):
             raise
+        except BrokenPipeError:  # output piped into a program that stopped reading
+            sys.stderr.close()
+            sys.exit(0)
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from .analysis import MethodError
             from .config import CaseError
@@ -239,14 +242,21 @@ def _print_result(console, result, out_dir):
             ok,
         )
     console.print(table)
+    if not result.case.rotor.identical:
+        console.print(
+            "Blades differ: the Deutsch rows use the rotor's average blade (smeared damper), "
+            "which can miss what a failed damper does; the exact value below governs."
+        )
     exact = lag["exact_minimum"]
+    which = "every blade" if result.case.rotor.identical else "every working damper"
     if exact is None:
         console.print(
-            "Exact minimum lag damping (eigenvalues): none suffices with the installed body damping."
+            f"Exact minimum lag damping (on {which}): none, up to a large multiple of the installed "
+            "damper, makes the sweep stable with the installed body damping."
         )
     else:
         console.print(
-            f"Exact minimum lag damping (eigenvalues, all blades alike): {exact:.5g} N m s/rad "
+            f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad "
             f"(installed {lag['installed']:.5g})."
         )
     console.print(f"Wrote {out_dir}/summary.json, modes.csv, modes.nc, coleman.png")

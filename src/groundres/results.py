@@ -169,6 +169,11 @@ class SweepResult:
         coords = {
             "speed": (("speed",), speed, {"units": "rad/s", "long_name": "rotor speed"}),
             "mode": (("mode",), np.array(self.labels, dtype=object), {"long_name": "mode label"}),
+            "harmonic": (
+                ("harmonic",),
+                np.asarray(self.modes.orders, dtype=np.int32),
+                {"long_name": "harmonic order m: frequency offset m * rotor speed"},
+            ),
         }
         both = ("speed", "mode")
         variables = {
@@ -193,6 +198,11 @@ class SweepResult:
                 {"units": "1/s", "long_name": "largest real part of the mode"},
             ),
             "damping_ratio": (both, self.damping_ratio, {"units": "1", "long_name": "damping ratio"}),
+            "participation": (
+                both + ("harmonic",),
+                self.modes.participation,
+                {"units": "1", "long_name": "share of each harmonic in the mode, nonrotating frame"},
+            ),
             "unstable": (
                 ("speed",),
                 unstable,
