@@ -23,6 +23,17 @@ HAMMOND_HUB = dict(
     damping_y=25539.35,
 )
 
+# A pitch-roll body (helicopter on its gear, pivot 1.8 m below the hub).
+PITCH_ROLL = dict(
+    inertia_pitch=2.5e4,
+    inertia_roll=9e3,
+    stiffness_pitch=4e6,
+    stiffness_roll=2e6,
+    damping_pitch=2e4,
+    damping_roll=1e4,
+    hub_height=1.8,
+)
+
 
 def make_case(n_blades=4, flap=False, dofs=("x", "y"), sweep=(1.0, 40.0, 200), blade=None, body=None):
     blade_kw = {**HAMMOND_BLADE, "lag_damping": 4067.5, **(blade or {})}

@@ -8,19 +8,9 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
-from conftest import make_case
+from conftest import PITCH_ROLL, make_case
 from groundres import analyze, floquet, modal, simulate
 from groundres.system import System
-
-PITCH_ROLL = dict(
-    inertia_pitch=2.5e4,
-    inertia_roll=9e3,
-    stiffness_pitch=4e6,
-    stiffness_roll=2e6,
-    damping_pitch=2e4,
-    damping_roll=1e4,
-    hub_height=1.8,
-)
 
 
 def one_damper(case, blade=1):

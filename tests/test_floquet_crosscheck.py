@@ -13,7 +13,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
-from conftest import make_case
+from conftest import PITCH_ROLL, make_case
 from groundres import modal
 from groundres.system import System
 
@@ -57,15 +57,7 @@ CASES = {
     "four blades, pitch and roll with flap": dict(
         flap=True,
         dofs=("pitch", "roll"),
-        body=dict(
-            inertia_pitch=2.5e4,
-            inertia_roll=9e3,
-            stiffness_pitch=4e6,
-            stiffness_roll=2e6,
-            damping_pitch=2e4,
-            damping_roll=1e4,
-            hub_height=1.8,
-        ),
+        body=PITCH_ROLL,
     ),
 }
 

@@ -57,6 +57,15 @@ class _Group(click.Group):
             sys.exit(1)
 
 
+_OUT = click.option(
+    "--out",
+    "out",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Output directory [default: groundres-out/<case name>].",
+)
+
+
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="groundres")
 def main():
@@ -90,13 +99,7 @@ def _first_run() -> bool:
 
 @main.command()
 @click.argument("case", required=False)
-@click.option(
-    "--out",
-    "out",
-    type=click.Path(file_okay=False),
-    default=None,
-    help="Output directory [default: groundres-out/<case name>].",
-)
+@_OUT
 @click.option(
     "--frame",
     type=click.Choice(["nonrotating", "rotating"]),
@@ -273,13 +276,7 @@ def _print_result(console, result, out_dir):
     help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
     "[default: x, y, pitch, roll present = 0.01 and lag1 = 0.01].",
 )
-@click.option(
-    "--out",
-    "out",
-    type=click.Path(file_okay=False),
-    default=None,
-    help="Output directory [default: groundres-out/<case name>].",
-)
+@_OUT
 def simulate(case, speed, duration, initial, out):
     """Integrate the periodic equations of CASE in time at one rotor speed.
 

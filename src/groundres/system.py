@@ -15,15 +15,9 @@ import numpy as np
 from . import mbc
 from .mbc import Coordinate
 from .params import BODY_DOFS, Body, Rotor
-from .symbolic.codegen import blade_function
+from .symbolic.codegen import BLADE_ARGUMENTS, blade_function
 
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
-_BLADE_PARAMS = (
-    "blade_mass",
-    "blade_static_moment",
-    "blade_inertia",
-    "hinge_offset",
-)
 
 
 class System:
@@ -75,35 +69,17 @@ class System:
         (1, cos psi, sin psi, cos 2 psi, sin 2 psi) of that blade.
         """
         speeds = np.asarray(speeds, dtype=float)
-        f = blade_function()
-        h = self.body.hub_height
-        sel = np.ix_(range(3), range(5), self._local, self._local)
+        sel = (slice(None),) + np.ix_(range(3), range(5), self._local, self._local)
+
+        def one(blade):
+            values = {name: getattr(blade, name) for name in BLADE_ARGUMENTS if hasattr(blade, name)}
+            arrays = blade_function()(speeds, hub_height=self.body.hub_height, **values)
+            return np.moveaxis(arrays, -1, 0)[sel]
+
         if self.rotor.identical:
-            b = self.rotor.blades[0]
-            arrays = f(
-                speeds,
-                *(getattr(b, p) for p in _BLADE_PARAMS),
-                h,
-                b.lag_stiffness,
-                b.lag_damping,
-                b.flap_stiffness,
-                b.flap_damping,
-            )
-            one = np.moveaxis(arrays, -1, 0)[(slice(None),) + sel]
-            return np.broadcast_to(one[:, None], (len(speeds), self.n_blades) + one.shape[1:])
-        per_blade = []
-        for b in self.rotor.blades:
-            arrays = f(
-                speeds,
-                *(getattr(b, p) for p in _BLADE_PARAMS),
-                h,
-                b.lag_stiffness,
-                b.lag_damping,
-                b.flap_stiffness,
-                b.flap_damping,
-            )
-            per_blade.append(np.moveaxis(arrays, -1, 0)[(slice(None),) + sel])
-        return np.stack(per_blade, axis=1)
+            first = one(self.rotor.blades[0])
+            return np.broadcast_to(first[:, None], (len(speeds), self.n_blades) + first.shape[1:])
+        return np.stack([one(b) for b in self.rotor.blades], axis=1)
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
