@@ -77,6 +77,22 @@ BAD = {
     "unknown method": (edit('unit = "rad/s"', 'unit = "rad/s"\nmethod = "magic"'), ["method", "magic"]),
     "unknown dof": (edit('dofs = ["x", "y"]', 'dofs = ["x", "yaw"]'), ["dofs", "yaw"]),
     "bad toml": (edit("blades = 4", "blades = = 4"), ["TOML"]),
+    "pitch without hub height": (
+        edit(
+            'dofs = ["x", "y"]', 'dofs = ["x", "y", "pitch"]\ninertia_pitch = 2500.0\nstiffness_pitch = 4e5'
+        ),
+        ["hub_height", "missing"],
+    ),
+    "roll without inertia": (
+        edit('dofs = ["x", "y"]', 'dofs = ["x", "y", "roll"]\nstiffness_roll = 1e5\nhub_height = 1.5'),
+        ["inertia_roll", "missing"],
+    ),
+    "zero roll inertia": (
+        edit(
+            'dofs = ["x", "y"]', 'dofs = ["roll"]\ninertia_roll = 0.0\nstiffness_roll = 1e5\nhub_height = 1.5'
+        ),
+        ["inertia_roll", "0.0"],
+    ),
 }
 
 

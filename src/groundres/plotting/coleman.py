@@ -98,6 +98,12 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     ax_f.plot(speeds, speeds, ":", color="0.45", lw=1.0, label="1/rev")
     ax_f.plot(speeds, 2 * speeds, ":", color="0.75", lw=1.0, label="2/rev")
     ax_d.axhline(0.0, color="0.3", lw=0.8)
+    if not show_damping_ratio:
+        # neutral roots of undamped cases sit at zero up to round-off: keep a visible scale
+        span = np.nanmax(np.abs(lower)) if np.isfinite(lower).any() else 0.0
+        floor = 0.02 * max(np.nanmax(result.frequency), 1e-12)
+        if span < floor:
+            ax_d.set_ylim(-floor, floor)
     top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
     ax_f.set_ylim(0, 1.05 * top)
     ax_f.set_xlim(w[0], w[-1])
