@@ -101,7 +101,12 @@ class _Solver:
         weights = self.weights(speeds)
         found = modal.identify(sol, self.nr_coords, weights, speeds, self.iso)
         labelled = modal.Eigensolution(
-            sol.eigenvalue, sol.vector, np.zeros(sol.vector.shape[-1], int), [np.arange(len(self.nr_coords))]
+            sol.eigenvalue,
+            sol.vector,
+            np.zeros(sol.vector.shape[-1], int),
+            [np.arange(len(self.nr_coords))],
+            sol.harmonics,
+            sol.orders,
         )
         return labelled, found
 
@@ -235,7 +240,7 @@ def _extremes(roots):
     return max_real, ratio.min(-1)
 
 
-def analyze(case: Case, *, frame: str | None = None, method: str | None = None) -> SweepResult:
+def analyze(case: Case, *, frame: str | None = None, method: str | None = None, speeds=None) -> SweepResult:
     """Analyse a case over its speed sweep.
 
     Parameters
@@ -245,6 +250,8 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None) 
         "nonrotating" or "rotating"; defaults to the case's choice.
     method : str, optional
         "auto", "eigen" or "floquet"; defaults to the case's choice.
+    speeds : array, optional
+        Rotor speeds [rad/s] instead of the case's sweep (increasing).
 
     Returns
     -------
@@ -253,7 +260,7 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None) 
     form = choose_method(case, method)
     frame = frame or case.sweep.frame
     solver = _SOLVERS[form](System(case.rotor, case.body))
-    speeds = case.sweep.speeds
+    speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
     sol, found = solver.sweep(speeds)
     modes = modal.modes(sol, found, speeds)
     max_real, min_ratio = _extremes(found.eigenvalue)
@@ -279,7 +286,8 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None) 
         stability=assessed,
         deutsch=deutsch,
         exact_lag_damping=exact,
-        coordinates=solver.coordinates,
+        coordinates=solver.nr_coords,
+        weights=solver.weights(speeds),
     )
 
 

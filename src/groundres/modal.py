@@ -370,7 +370,8 @@ class Modes:
     frequency_nonrotating, frequency_rotating : ndarray (n_s, n_m)
         Frequency [rad/s] seen from nonrotating and rotating axes.
     shape : complex ndarray (n_s, n, n_m)
-        Displacement eigenvector of the representative root.
+        Mode shape seen from nonrotating axes: amplitude of each nonrotating
+        (body, multiblade) coordinate at the mode's identified frequency.
     energy : ndarray (n_s, n_m, n_m)
         Fraction of the mode's weighted squared amplitude in each label.
     branch : int ndarray (n_s, n_m)
@@ -381,6 +382,12 @@ class Modes:
         nonrotating axes (frequency offset orders * Omega); one order (0) for
         time-invariant multiblade analysis.
     orders : int ndarray (M,)
+    harmonics : complex ndarray (n_s, n, M', n_m)
+        The whole periodic shape: amplitude of each nonrotating coordinate at
+        frequency Im(eigenvalue) + (harmonic_orders - identified_order) * Omega.
+    harmonic_orders : int ndarray (M',)
+    identified_order : int ndarray (n_s, n_m)
+        The harmonic the nonrotating frequency was identified from.
     """
 
     labels: list
@@ -393,6 +400,9 @@ class Modes:
     branch: np.ndarray
     participation: np.ndarray
     orders: np.ndarray
+    harmonics: np.ndarray
+    harmonic_orders: np.ndarray
+    identified_order: np.ndarray
 
     @property
     def damping_ratio(self) -> np.ndarray:
@@ -594,15 +604,25 @@ def modes(sol: Eigensolution, found: Content, speeds, stickiness=0.25) -> Modes:
     rows = np.arange(n_s)[:, None]
     lam = roots[rows, rep]
     lam_other = roots[rows, other]
+    harm = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
+    orders = sol.orders if sol.orders is not None else np.array([0])
+    harm = np.take_along_axis(harm, rep[:, None, None, :], axis=3)  # (n_s, n, M, n_m)
+    # the shape seen from nonrotating axes: the harmonic the frequency was identified from
+    order = np.rint((lam.imag - sol.eigenvalue[rows, rep].imag) / np.maximum(speeds[:, None], 1e-300))
+    pos = np.clip(np.searchsorted(orders, order.astype(int)), 0, len(orders) - 1)  # (n_s, n_m)
+    shape = np.take_along_axis(harm, pos[:, None, None, :], axis=2)[:, :, 0, :]
     return Modes(
         labels=labels,
         eigenvalue=lam,
         real_part=np.maximum(lam.real, lam_other.real),
         frequency_nonrotating=np.abs(lam.imag),
         frequency_rotating=found.rotating_frequency[rows, rep],
-        shape=np.take_along_axis(sol.vector, rep[:, None, :], axis=2),
+        shape=shape,
         energy=(frac[rows, rep] + frac[rows, other]) / 2,
         branch=rep,
         participation=found.participation[rows, rep],
         orders=found.orders,
+        harmonics=harm,
+        harmonic_orders=orders,
+        identified_order=order.astype(int),
     )

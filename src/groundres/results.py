@@ -46,7 +46,9 @@ class SweepResult:
         Smallest lag damping (all blades) that makes the sweep stable [N m s/rad],
         found from the eigenvalues; None if no value up to a large cap does.
     coordinates : list of Coordinate
-        Coordinates of the eigenvectors in ``modes.shape``.
+        Nonrotating coordinates of the mode shapes (``modes.shape``).
+    weights : ndarray (n_s, n)
+        Kinetic weight (mass-matrix diagonal) of each coordinate.
     """
 
     case: Case
@@ -58,6 +60,7 @@ class SweepResult:
     deutsch: list
     exact_lag_damping: float | None
     coordinates: list
+    weights: np.ndarray | None = None
 
     @property
     def labels(self) -> list[str]:
@@ -90,6 +93,39 @@ class SweepResult:
         if not grows.any():
             grows = self.real_part[inside].max(0) == self.real_part[inside].max()
         return [lab for lab, g in zip(self.labels, grows) if g]
+
+    def mode(self, label: str, speed: float):
+        """The mode ``label`` at the sweep speed nearest ``speed`` [rad/s].
+
+        Returns
+        -------
+        ModeShape
+            Phasors, whirl decomposition and motion (see :mod:`groundres.shapes`).
+
+        Examples
+        --------
+        >>> result.mode("regressive lag", speed=26.0).whirl()["centre_of_mass"]  # doctest: +SKIP
+        """
+        from .shapes import ModeShape
+
+        if label not in self.labels:
+            raise KeyError(f"mode {label!r}: not a mode of this case; choose one of {', '.join(self.labels)}")
+        i = int(np.argmin(np.abs(self.rotor_speed - speed)))
+        j = self.labels.index(label)
+        m = self.modes
+        blades = self.case.rotor.blades
+        return ModeShape(
+            label=label,
+            rotor_speed=float(self.rotor_speed[i]),
+            eigenvalue=complex(m.eigenvalue[i, j]),
+            coordinates=self.coordinates,
+            harmonics=m.harmonics[i, :, :, j],
+            orders=m.harmonic_orders - m.identified_order[i, j],
+            weights=self.weights[i],
+            n_blades=len(blades),
+            cg_arm=float(np.mean([b.blade_static_moment / b.blade_mass for b in blades])),
+            hub_height=self.case.body.hub_height,
+        )
 
     def _mode_at(self, speed: float, values) -> str:
         i = int(np.argmin(np.abs(self.rotor_speed - speed)))
@@ -169,6 +205,11 @@ class SweepResult:
         coords = {
             "speed": (("speed",), speed, {"units": "rad/s", "long_name": "rotor speed"}),
             "mode": (("mode",), np.array(self.labels, dtype=object), {"long_name": "mode label"}),
+            "coordinate": (
+                ("coordinate",),
+                np.array([c.symbol for c in self.coordinates], dtype=object),
+                {"long_name": "nonrotating coordinate of the mode shapes (body, multiblade)"},
+            ),
             "harmonic": (
                 ("harmonic",),
                 np.asarray(self.modes.orders, dtype=np.int32),
@@ -198,6 +239,16 @@ class SweepResult:
                 {"units": "1/s", "long_name": "largest real part of the mode"},
             ),
             "damping_ratio": (both, self.damping_ratio, {"units": "1", "long_name": "damping ratio"}),
+            "shape_real": (
+                both + ("coordinate",),
+                np.moveaxis(self.modes.shape, 1, 2).real,
+                {"long_name": "mode shape (nonrotating), real part; m for x y, rad for angles"},
+            ),
+            "shape_imag": (
+                both + ("coordinate",),
+                np.moveaxis(self.modes.shape, 1, 2).imag,
+                {"long_name": "mode shape (nonrotating), imaginary part"},
+            ),
             "participation": (
                 both + ("harmonic",),
                 self.modes.participation,
