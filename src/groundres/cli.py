@@ -27,6 +27,21 @@ def _fail_user(message: str):
     raise _UserError(message)
 
 
+def _output_dir(case: str | None, out) -> Path:
+    """--out, or groundres-out/<case name>."""
+    return Path(out) if out else Path("groundres-out") / (Path(case).stem if case else DEFAULT_CASE)
+
+
+def _case_at_speed(case: str | None, speed: float):
+    """The case and a --speed (in the case's unit) in rad/s."""
+    from .params import SPEED_UNITS
+
+    the_case = _load(case)
+    if not speed > 0:
+        _fail_user(f"--speed = {speed!r}: must be > 0 (in {the_case.sweep.unit})")
+    return the_case, speed * SPEED_UNITS[the_case.sweep.unit]
+
+
 def _load(case: str | None):
     from .config import CaseError, load_case
 
@@ -123,8 +138,7 @@ def run(case, out, frame, method, damping_ratio):
     if case is None:
         console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
     the_case = _load(case)
-    name = Path(case).stem if case else DEFAULT_CASE
-    out_dir = Path(out) if out else Path("groundres-out") / name
+    out_dir = _output_dir(case, out)
     pool = _picture_process()
     try:
         from .analysis import analyze
@@ -289,15 +303,11 @@ def simulate(case, speed, duration, initial, out):
     from . import io
     from . import simulate as sim_module
     from .analysis import choose_method, root_solver
-    from .params import SPEED_UNITS
     from .plotting.timehistory import time_history
     from .system import System
 
     console = _console()
-    the_case = _load(case)
-    if not speed > 0:
-        _fail_user(f"--speed = {speed!r}: must be > 0 (in {the_case.sweep.unit})")
-    w = speed * SPEED_UNITS[the_case.sweep.unit]
+    the_case, w = _case_at_speed(case, speed)
     duration = duration or 40 * 2 * np.pi / w
     if not duration > 0:
         _fail_user(f"--time = {duration!r}: must be > 0 [s]")
@@ -327,11 +337,7 @@ def simulate(case, speed, duration, initial, out):
     fig = time_history(sim, title=the_case.title, growth=growth, predicted=predicted)
     io.write_figure(fig, out_dir / "simulation.png")
     header = ["time"] + [c.symbol if c.kind == "body" else f"{c.kind}{c.name}" for c in sim.coordinates]
-    rows = np.column_stack([sim.time, sim.displacement])
-    io.write_text(
-        out_dir / "simulation.csv",
-        ",".join(header) + "\n" + "\n".join(",".join(f"{v:.10g}" for v in r) for r in rows) + "\n",
-    )
+    io.write_csv(out_dir / "simulation.csv", header, np.column_stack([sim.time, sim.displacement]))
     console.print(
         f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
         f" ({100 * (growth - predicted) / abs(predicted) if predicted else 0:+.3f} %)."
@@ -367,15 +373,10 @@ def phasors(case, speed, labels, gif, out):
 
     from . import io
     from .analysis import analyze
-    from .params import SPEED_UNITS
 
     console = _console()
-    the_case = _load(case)
-    if not speed > 0:
-        _fail_user(f"--speed = {speed!r}: must be > 0 (in {the_case.sweep.unit})")
-    w = speed * SPEED_UNITS[the_case.sweep.unit]
-    name = Path(case).stem if case else DEFAULT_CASE
-    out_dir = Path(out) if out else Path("groundres-out") / name
+    the_case, w = _case_at_speed(case, speed)
+    out_dir = _output_dir(case, out)
     with _status(console, f"Analysing {the_case.title}..."):
         result = analyze(the_case, speeds=np.union1d(the_case.sweep.speeds, [w]))
     i = int(np.argmin(np.abs(result.rotor_speed - w)))
@@ -417,16 +418,7 @@ def phasors(case, speed, labels, gif, out):
 
                 anim.save(tmp, writer=PillowWriter(fps=15), dpi=70)
     io.write_text(out_dir / "phasors.json", json.dumps(report, indent=2) + "\n")
-    header = list(rows[0])
-    io.write_text(
-        out_dir / "phasors.csv",
-        ",".join(header)
-        + "\n"
-        + "\n".join(
-            ",".join(f"{r[k]:.8g}" if isinstance(r[k], float) else str(r[k]) for k in header) for r in rows
-        )
-        + "\n",
-    )
+    io.write_csv(out_dir / "phasors.csv", list(rows[0]), [list(r.values()) for r in rows])
     for label in labels:
         r = report[label]
         com = r["whirl"]["centre_of_mass"]

@@ -16,6 +16,8 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 
 def _file_mode() -> int:
     """Permissions of a newly created file under the current umask."""
@@ -50,22 +52,30 @@ def write_summary(result, path: str | Path) -> None:
     write_text(path, json.dumps(result.summary(), indent=2) + "\n")
 
 
-def modes_csv(result) -> str:
-    """The modes table as CSV text."""
+def csv_text(header, rows) -> str:
+    """CSV text; floats with ten significant digits."""
     buf = _io.StringIO()
     out = csv.writer(buf, lineterminator="\n")
-    out.writerow(["speed", "mode", "frequency", "real_part", "damping_ratio"])
-    freq, real, ratio = result.frequency, result.real_part, result.damping_ratio
-    for i, w in enumerate(result.rotor_speed):
-        for j, label in enumerate(result.labels):
-            out.writerow(
-                [f"{w:.10g}", label, f"{freq[i, j]:.10g}", f"{real[i, j]:.10g}", f"{ratio[i, j]:.10g}"]
-            )
+    out.writerow(header)
+    for row in rows:
+        out.writerow([f"{v:.10g}" if isinstance(v, (float, np.floating)) else v for v in row])
     return buf.getvalue()
 
 
+def write_csv(path: str | Path, header, rows) -> None:
+    """Write rows as CSV atomically."""
+    write_text(path, csv_text(header, rows))
+
+
 def write_modes_csv(result, path: str | Path) -> None:
-    write_text(path, modes_csv(result))
+    """modes.csv: one row per (speed, mode)."""
+    freq, real, ratio = result.frequency, result.real_part, result.damping_ratio
+    rows = (
+        [w, label, freq[i, j], real[i, j], ratio[i, j]]
+        for i, w in enumerate(result.rotor_speed)
+        for j, label in enumerate(result.labels)
+    )
+    write_csv(path, ["speed", "mode", "frequency", "real_part", "damping_ratio"], rows)
 
 
 def write_modes_netcdf(result, path: str | Path) -> None:
