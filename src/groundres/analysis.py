@@ -112,11 +112,8 @@ class _Solver:
 
 
 class _Multiblade(_Solver):
-    coordinates_kind = "multiblade"
-
     def __init__(self, system):
         super().__init__(system)
-        self.coordinates = self.nr_coords
         self.blocks = None
 
     def _blocks(self, mats):
@@ -138,7 +135,7 @@ class _Multiblade(_Solver):
         mats = self.system.multiblade(speeds)
         sol = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
         weights = np.abs(np.diagonal(mats[0], axis1=-2, axis2=-1))
-        return sol, modal.identify(sol, self.coordinates, weights, speeds, self.iso)
+        return sol, modal.identify(sol, self.nr_coords, weights, speeds, self.iso)
 
     def with_lag_damping(self, value):
         new = super().with_lag_damping(value)
@@ -150,10 +147,6 @@ class _Rotating(_Solver):
     """Isotropic body in rotating axes: time-invariant for any blades."""
 
     samples = 16
-
-    def __init__(self, system):
-        super().__init__(system)
-        self.coordinates = system.rotating_axes_coordinates()
 
     def roots(self, speeds):
         mats = self.system.rotating_axes(np.atleast_1d(speeds))
@@ -184,10 +177,6 @@ class _Floquet(_Solver):
     """Periodic equations: Floquet exponents and periodic eigenvectors."""
 
     samples = 32
-
-    def __init__(self, system):
-        super().__init__(system)
-        self.coordinates = system.coordinates
 
     def roots(self, speeds):
         return floquet.solve(self.system, np.atleast_1d(speeds), samples=0).exponent

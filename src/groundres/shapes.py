@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import mbc
-from .mbc import Coordinate
 
 
 @dataclass(frozen=True)
@@ -271,8 +270,3 @@ class ModeShape:
 
 def _polar(z) -> dict:
     return {"amplitude": float(abs(z)), "phase_deg": float(np.degrees(np.angle(z)))}
-
-
-def coordinate_names(coords: list[Coordinate]) -> list[str]:
-    """Names used in files for nonrotating coordinates."""
-    return [c.symbol for c in coords]

@@ -166,11 +166,6 @@ class System:
         t_ddot[..., : self.n_body, : self.n_body] = 0.0
         return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
 
-    def rotating_axes_coordinates(self) -> list[Coordinate]:
-        """Coordinates of the rotating-axes form: body in rotating axes, blades as they are."""
-        body = [Coordinate("body", d, frame="rotating") for d in self.body.dofs]
-        return body + self.coordinates[self.n_body :]
-
     def rotating_axes(self, speeds, phase=0.0):
         """Equations with the body in rotating axes (time-invariant for an isotropic body).
 
