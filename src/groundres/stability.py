@@ -112,8 +112,17 @@ def assess(speeds, max_real, min_damping, max_real_at, min_damping_at) -> Stabil
     worst = _refine_max(max_real_at, speeds, max_real, i)
     j = int(np.nanargmin(min_damping))
     low = _refine_max(lambda w: -min_damping_at(w), speeds, -min_damping, j)
+    ranges = unstable_ranges(speeds, max_real, max_real_at)
+    peak, at = worst
+    if peak > GROWTH_PER_RADIAN * at and not any(a <= at <= b for a, b in ranges):
+        # a range narrower than the grid: the refined peak found it; locate its ends
+        excess = lambda w: max_real_at(w) - GROWTH_PER_RADIAN * w  # noqa: E731
+        lo, hi = speeds[max(i - 1, 0)], speeds[min(i + 1, len(speeds) - 1)]
+        start = lo if excess(lo) > 0 else brentq(excess, lo, at, xtol=1e-12, rtol=1e-8)
+        end = hi if excess(hi) > 0 else brentq(excess, at, hi, xtol=1e-12, rtol=1e-8)
+        ranges = sorted(ranges + [(float(start), float(end))])
     return Stability(
-        unstable_ranges=unstable_ranges(speeds, max_real, max_real_at),
+        unstable_ranges=ranges,
         max_real_part=worst,
         min_damping_ratio=(-low[0], low[1]),
     )
