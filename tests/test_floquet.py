@@ -112,7 +112,7 @@ def test_floquet_equals_rotating_axes_eigen_for_an_isotropic_hub(n_blades):
     system = System(case.rotor, case.body)
     speeds = eigen.rotor_speed
     roots = np.linalg.eigvals(modal.state_matrix(*system.rotating_axes(speeds)))
-    exponents = floquet.solve(system, speeds, samples=0).exponent
+    exponents = floquet.solve(system, speeds, harmonics=0).exponent
     for i, w in enumerate(speeds):
         # the roots: real parts to 1e-8, imaginary parts equal modulo Omega
         d_re = np.abs(roots[i].real[:, None] - exponents[i].real[None, :])
@@ -137,7 +137,7 @@ def test_two_opposite_working_dampers_give_minus_c_over_2i():
     b = case.rotor.blades[1]
     sigma = b.lag_damping / (2 * b.blade_inertia)
     for speed in (10.0, 25.0, 40.0):
-        exponents = floquet.solve(system, np.array([speed]), samples=0).exponent[0]
+        exponents = floquet.solve(system, np.array([speed]), harmonics=0).exponent[0]
         nu_w = b.lag_frequency(speed) * speed
         expected = -sigma + 1j * np.sqrt(nu_w**2 - sigma**2)
         k = (exponents.imag - expected.imag) / speed
@@ -150,7 +150,7 @@ def test_simulated_growth_matches_the_largest_exponent(speed):
     """A time simulation (DOP853) of the periodic equations grows at max Re(lambda), to 1 %."""
     case = one_damper(make_case())
     system = System(case.rotor, case.body)
-    predicted = floquet.solve(system, np.array([speed]), samples=0).exponent.real.max()
+    predicted = floquet.solve(system, np.array([speed]), harmonics=0).exponent.real.max()
     assert predicted > 0.05  # inside the unstable range: one mode dominates
     start = simulate.initial_state(system, {"x": 0.01, "y": 0.01, "lag1": 0.01})
     run = simulate.simulate(system, speed, 40.0, start, rtol=1e-9)

@@ -19,7 +19,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from . import floquet, modal, stability
+from . import floquet, identify, modal, stability
+from .identify import Modes
 from .params import Case
 from .results import SweepResult
 from .system import System
@@ -96,19 +97,23 @@ class _Solver:
         mats = self.system.multiblade(speeds)
         return np.abs(np.diagonal(mats[0], axis1=-2, axis2=-1))
 
-    def _finish(self, sol, speeds):
-        """Labels and frequencies of tracked roots, harmonics kept continuous along branches."""
-        weights = self.weights(speeds)
-        found = modal.identify(sol, self.nr_coords, weights, speeds, self.iso)
-        labelled = modal.Eigensolution(
+    def identify(self, sol: modal.Eigensolution, speeds) -> Modes:
+        """Labels and frequencies of a tracked solution (:func:`groundres.identify.identify`)."""
+        harmonics = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
+        orders = sol.orders if sol.orders is not None else np.array([0])
+        return identify.identify(
             sol.eigenvalue,
-            sol.vector,
-            np.zeros(sol.vector.shape[-1], int),
-            [np.arange(len(self.nr_coords))],
-            sol.harmonics,
-            sol.orders,
+            harmonics,
+            orders,
+            self.nr_coords,
+            self.weights(speeds),
+            speeds,
+            block=sol.block,
+            blocks=sol.blocks,
+            key=sol.key,
+            isotropic_pairs=self.iso,
+            threshold=stability.growth_threshold(speeds),
         )
-        return labelled, found
 
 
 class _Multiblade(_Solver):
@@ -133,9 +138,7 @@ class _Multiblade(_Solver):
 
     def sweep(self, speeds):
         mats = self.system.multiblade(speeds)
-        sol = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
-        weights = np.abs(np.diagonal(mats[0], axis1=-2, axis2=-1))
-        return sol, modal.identify(sol, self.nr_coords, weights, speeds, self.iso)
+        return modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
 
     def with_lag_damping(self, value):
         new = super().with_lag_damping(value)
@@ -169,47 +172,29 @@ class _Rotating(_Solver):
                 q[:, :, ia, :] = c * xa - s * xb
                 q[:, :, ib, :] = s * xa + c * xb
         harmonics, orders = self.system.nonrotating_harmonics(q, phase, self.samples // 2 - 1)
-        sol = modal.Eigensolution(raw.eigenvalue, raw.vector, raw.block, raw.blocks, harmonics, orders)
-        return self._finish(sol, speeds)
+        one = np.zeros(raw.vector.shape[-1], int)  # labels are in nonrotating coordinates: one block
+        return modal.Eigensolution(
+            raw.eigenvalue, raw.vector, one, [np.arange(raw.vector.shape[1])], harmonics, orders
+        )
 
 
 class _Floquet(_Solver):
     """Periodic equations: Floquet exponents and periodic eigenvectors."""
 
-    samples = 32
-
     def roots(self, speeds):
-        return floquet.solve(self.system, np.atleast_1d(speeds), samples=0).exponent
+        return floquet.solve(self.system, np.atleast_1d(speeds), harmonics=0).exponent
 
     coupled_roots = roots
 
     def sweep(self, speeds):
-        fs = floquet.solve(self.system, speeds, samples=self.samples)
-        sym = fs.symmetry
+        fs = floquet.solve(self.system, speeds)
         n = self.system.size
         # branches: multipliers and monodromy eigenvectors vary continuously with speed
         disp = fs.vector[:, :n, :]
         disp = disp / np.maximum(np.linalg.norm(disp, axis=1, keepdims=True), 1e-300)
         order = modal.track_order(fs.multiplier, disp, np.zeros(2 * n, int), speeds)
-        rho, vectors, disp = _reorder(order, fs.multiplier, fs.vector, disp)
-        # exponents with the multiplier's phase unwrapped along each branch
-        dt = sym.angle / speeds[:, None]
-        phase = np.unwrap(np.angle(rho), axis=0)
-        exponent = (np.log(np.abs(rho)) + 1j * phase) / dt
-        # one period of p = x exp(-lambda t): Phi(psi_s) v over [0, Delta), then by symmetry
-        psi0 = sym.angle * np.arange(self.samples) / self.samples
-        y = fs.sampled @ vectors[None]  # (K, n_s, 2n, 2n)
-        t = psi0[:, None, None, None] / speeds[None, :, None, None]
-        q = y[:, :, :n, :] * np.exp(-exponent[None, :, None, :] * t)
-        parts, gk = [], np.eye(n)
-        for _ in range(self.system.n_blades // sym.shift):
-            parts.append(gk @ q)
-            gk = sym.g @ gk
-        full = np.concatenate(parts, axis=0)
-        phase = 2 * np.pi * np.arange(len(full)) / len(full)
-        harmonics, orders = self.system.nonrotating_harmonics(full, phase, len(full) // 2 - 1)
-        sol = modal.Eigensolution(exponent, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, orders)
-        return self._finish(sol, speeds)
+        rho, lam, disp, harmonics = _reorder(order, fs.multiplier, fs.exponent, disp, fs.harmonics)
+        return modal.Eigensolution(lam, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, fs.orders, rho)
 
 
 _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floquet}
@@ -220,13 +205,29 @@ def root_solver(case: Case, form: str | None = None):
     return _SOLVERS[form or choose_method(case)](System(case.rotor, case.body))
 
 
-def _extremes(roots):
-    """Largest real part and smallest damping ratio at each speed."""
-    max_real = roots.real.max(-1)
+def _ratio(roots):
+    """Damping ratio -Re/|root| (inf for a root at the origin)."""
     size = np.abs(roots)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = np.where(size > 1e-12 * max(size.max(), 1e-300), -roots.real / size, np.inf)
-    return max_real, ratio.min(-1)
+        return np.where(size > 1e-12 * max(float(size.max()), 1e-300), -roots.real / size, np.inf)
+
+
+def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> float:
+    """Damping ratio at speed ``w`` of the root that continues mode ``label``.
+
+    The root nearest the mode's eigenvalue interpolated from the sweep, with
+    its frequency shifted by the multiple of Omega that brings it nearest
+    (none for a multiblade analysis, whose frequencies are unique).
+    """
+    lam = modes.eigenvalue[:, label]
+    target = complex(np.interp(w, speeds, lam.real), np.interp(w, speeds, lam.imag))
+    roots = np.asarray(solver.roots(np.array([w])))[0]
+    if isinstance(solver, _Multiblade):
+        cand = roots.real + 1j * np.abs(roots.imag)
+    else:
+        m = np.rint((target.imag - roots.imag) / w)
+        cand = roots.real + 1j * np.abs(roots.imag + m * w)
+    return float(_ratio(cand[np.argmin(np.abs(cand - target))]))
 
 
 def analyze(case: Case, *, frame: str | None = None, method: str | None = None, speeds=None) -> SweepResult:
@@ -250,17 +251,18 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
     frame = frame or case.sweep.frame
     solver = _SOLVERS[form](System(case.rotor, case.body))
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
-    sol, found = solver.sweep(speeds)
-    modes = modal.modes(sol, found, speeds)
-    max_real, min_ratio = _extremes(found.eigenvalue)
+    modes = solver.identify(solver.sweep(speeds), speeds)
+    max_real = modes.real_part.max(-1)
+    ratios = _ratio(modes.eigenvalue)
 
     def min_ratio_at(w):
-        return float(_extremes(solver.sweep(np.array([w]))[1].eigenvalue)[1][0])
+        label = int(np.argmin(ratios[np.argmin(np.abs(speeds - w))]))
+        return _damping_ratio_near(solver, modes, speeds, label, w)
 
     assessed = stability.assess(
         speeds,
         max_real,
-        min_ratio,
+        ratios.min(-1),
         lambda w: float(solver.roots(w).real.max()),
         min_ratio_at,
     )

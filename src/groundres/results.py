@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._version import __version__
-from .modal import Modes
+from .identify import Modes
 from .params import Case
 from .stability import GROWTH_PER_RADIAN, DeutschEntry, Stability
 
@@ -39,7 +39,7 @@ class SweepResult:
     rotor_speed : ndarray (n_s,)
         [rad/s].
     modes : Modes
-        Labelled modes (see :class:`groundres.modal.Modes`).
+        Labelled modes (see :class:`groundres.identify.Modes`).
     stability : Stability
     deutsch : list of DeutschEntry
     exact_lag_damping : float or None
@@ -120,11 +120,12 @@ class SweepResult:
             eigenvalue=complex(m.eigenvalue[i, j]),
             coordinates=self.coordinates,
             harmonics=m.harmonics[i, :, :, j],
-            orders=m.harmonic_orders - m.identified_order[i, j],
+            orders=m.harmonic_orders,
             weights=self.weights[i],
             n_blades=len(blades),
             cg_arm=float(np.mean([b.blade_static_moment / b.blade_mass for b in blades])),
             hub_height=self.case.body.hub_height,
+            rotating_frequency=float(m.frequency_rotating[i, j]),
         )
 
     def _mode_at(self, speed: float, values) -> str:
@@ -213,7 +214,12 @@ class SweepResult:
             "harmonic": (
                 ("harmonic",),
                 np.asarray(self.modes.orders, dtype=np.int32),
-                {"long_name": "harmonic order m: frequency offset m * rotor speed"},
+                {"long_name": "harmonic order m: frequency offset m * rotor speed from the mode's frequency"},
+            ),
+            "root": (
+                ("root",),
+                np.arange(self.modes.root_label.shape[1], dtype=np.int32),
+                {"long_name": "tracked root: one continuous branch of the sweep"},
             ),
         }
         both = ("speed", "mode")
@@ -253,6 +259,44 @@ class SweepResult:
                 both + ("harmonic",),
                 self.modes.participation,
                 {"units": "1", "long_name": "share of each harmonic in the mode, nonrotating frame"},
+            ),
+            "exchange": (
+                both,
+                self.modes.exchange.astype(np.int8),
+                {
+                    "long_name": "the label moved to another branch since the previous speed (veering)",
+                    "flag_values": np.array([0, 1], np.int8),
+                    "flag_meanings": "same_branch exchanged",
+                },
+            ),
+            "harmonic_change": (
+                both,
+                self.modes.harmonic_change.astype(np.int8),
+                {
+                    "long_name": "the nonrotating frequency moved to another harmonic of its root since "
+                    "the previous speed (that harmonic holds clearly more of the label's content)",
+                    "flag_values": np.array([0, 1], np.int8),
+                    "flag_meanings": "continuous moved",
+                },
+            ),
+            "harmonic_change_rotating": (
+                both,
+                self.modes.harmonic_change_rotating.astype(np.int8),
+                {
+                    "long_name": "the same for the rotating-frame frequency",
+                    "flag_values": np.array([0, 1], np.int8),
+                    "flag_meanings": "continuous moved",
+                },
+            ),
+            "root_mode": (
+                ("speed", "root"),
+                self.modes.root_label.astype(np.int32),
+                {"long_name": "index (into mode) of the mode the root belongs to"},
+            ),
+            "root_real_part": (
+                ("speed", "root"),
+                self.modes.root_real_part,
+                {"units": "1/s", "long_name": "real part of the root"},
             ),
             "unstable": (
                 ("speed",),

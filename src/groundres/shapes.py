@@ -101,6 +101,11 @@ class ModeShape:
         centre of mass about its hinge.
     hub_height : float
         [m].
+    rotating_frequency : float, optional
+        The mode's frequency seen from rotating axes [rad/s] as identified
+        (:mod:`groundres.identify`): the rotating-frame phasors are taken at
+        the harmonic with that frequency, so that they and the Coleman
+        diagram name the same motion.
     """
 
     label: str
@@ -113,6 +118,7 @@ class ModeShape:
     n_blades: int
     cg_arm: float
     hub_height: float
+    rotating_frequency: float | None = None
 
     @property
     def unstable(self) -> bool:
@@ -158,6 +164,12 @@ class ModeShape:
         coeff = np.einsum("sj,ks->kj", q, np.exp(-1j * np.outer(shifts, psi))) / samples
         energy = (np.abs(coeff) ** 2 * weights).sum(-1)
         best = int(np.argmax(energy))
+        if self.rotating_frequency is not None:
+            # the harmonic the identification chose (the most energetic one at that frequency)
+            freq = np.abs(self.eigenvalue.imag + shifts * self.rotor_speed)
+            match = np.abs(freq - self.rotating_frequency) <= 1e-6 * max(self.rotor_speed, freq.max())
+            if match.any():
+                best = int(np.argmax(np.where(match, energy, -1.0)))
         return coeff[best], weights, int(shifts[best]), names
 
     def _to_rotating(self, p, psi):

@@ -61,11 +61,17 @@ class Stability:
 
 
 def _refine_max(fun, speeds, values, i):
-    """Maximise fun near grid point i (bounded by its neighbours)."""
+    """Maximise fun near grid point i (bounded by its neighbours; never between
+    the rotor at rest and the first speed that turns: the value at rest is exact
+    and a periodic analysis just above it is the costliest of the sweep)."""
+    if speeds[i] <= 0:
+        return float(values[i]), float(speeds[i])
     lo, hi = speeds[max(i - 1, 0)], speeds[min(i + 1, len(speeds) - 1)]
+    if lo <= 0:
+        lo = speeds[i]
     if hi <= lo:
         return values[i], speeds[i]
-    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": 1e-7 * hi})
+    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6 * hi})
     if -res.fun > values[i]:
         return float(-res.fun), float(res.x)
     return float(values[i]), float(speeds[i])

@@ -1,4 +1,15 @@
-"""Coleman diagram: modal frequency and real part against rotor speed."""
+"""Coleman diagram: modal frequency and real part against rotor speed.
+
+Every label is one line, coloured by the label. Where two branches exchange
+their character (a veering: the labels move from one tracked root to the
+other) each branch is drawn continuously and changes colour half-way between
+the two speeds, at a marker; in the frequency panel a periodic system's
+label may instead move to another harmonic of its root, and then the label's
+own line is drawn. Lines that lie on top of each other (an articulated
+rotor's collective and differential lag) are drawn dashed over each other so
+that both show. When the unstable bump is small against the spread of real
+parts a third panel shows the real parts near zero.
+"""
 
 from __future__ import annotations
 
@@ -27,11 +38,17 @@ _COLOURS = {
     "differential flap": "#aec7e8",
 }
 _EXTRA = ["#ff9896", "#98df8a", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d", "#9edae5", "#ffbb78"]
+#: A small unstable bump: the largest positive real part below this share of the span.
+_SMALL_BUMP = 0.06
 
 
 def label_colour(label: str, i: int = 0) -> str:
     """A stable colour for a mode label."""
     return _COLOURS.get(label, _EXTRA[i % len(_EXTRA)])
+
+
+def _style(label: str) -> str:
+    return "--" if "flap" in label or label == "coning" else "-"
 
 
 def speed_axis(result):
@@ -42,14 +59,87 @@ def speed_axis(result):
     return SPEED_UNITS[sweep.unit], sweep.unit
 
 
-def _broken(x, y, branch, jump=None):
-    """Insert gaps where a label moves to another branch, or (periodic systems)
-    where its identified frequency jumps by a harmonic (no vertical joins)."""
-    cut = branch[1:] != branch[:-1]
-    if jump is not None:
-        cut |= np.abs(np.diff(y)) > jump[1:]
-    cut = np.flatnonzero(cut) + 1
-    return np.insert(x.astype(float), cut, np.nan), np.insert(y.astype(float), cut, np.nan)
+def _coincident(values, scale):
+    """Labels whose curves lie on another's over most of the sweep (they are drawn dashed)."""
+    n = values[0].shape[1]
+    out = set()
+    for i in range(n):
+        for j in range(i):
+            if j in out:
+                continue
+            near = np.ones(values[0].shape[0], bool)
+            for v, sc in zip(values, scale):
+                near &= np.abs(v[:, i] - v[:, j]) <= 0.004 * sc
+            if near.mean() > 0.3:
+                out.add(i)
+    return out
+
+
+def _segments(x, y, succ, exchange, label, jump=None):
+    """Pieces of one label's line: (xs, ys, colour label) in order.
+
+    Between speeds where the label stays on its branch the piece is the
+    label's own; where it moves to another branch the piece follows the
+    branch it leaves up to half-way (and a separate piece the branch it joins
+    from half-way), unless ``jump`` says that branch's values jump there.
+    """
+    n_s = len(x)
+    pieces, marks = [], []
+    xs, ys = [x[0]], [y[0, label]]
+    for s in range(n_s - 1):
+        if not exchange[s + 1, label]:
+            xs.append(x[s + 1])
+            ys.append(y[s + 1, label])
+            continue
+        out = succ[s, label] if succ[s, label] >= 0 else label
+        mid_x = 0.5 * (x[s] + x[s + 1])
+        along = jump is None or not jump(s, label, out)
+        if along:
+            xs.append(mid_x)
+            ys.append(0.5 * (y[s, label] + y[s + 1, out]))
+            marks.append((xs[-1], ys[-1]))
+            pieces.append((xs, ys))
+            # the branch this label joins, from half-way (a branch that only
+            # now becomes a mode of its own, e.g. two real roots turning into
+            # a conjugate pair, starts here)
+            into = np.flatnonzero(succ[s] == label)
+            if len(into):
+                src = int(into[0])
+                xs, ys = [mid_x, x[s + 1]], [0.5 * (y[s, src] + y[s + 1, label]), y[s + 1, label]]
+            else:
+                xs, ys = [x[s + 1]], [y[s + 1, label]]
+        else:
+            marks.append((mid_x, 0.5 * (y[s, label] + y[s + 1, label])))
+            xs.append(x[s + 1])
+            ys.append(y[s + 1, label])
+    pieces.append((xs, ys))
+    return pieces, marks
+
+
+def _roots(ax, x, values, labels, styles, colours):
+    """Each tracked root's line, coloured by the label of its mode at each speed.
+
+    values, labels : (n_s, n_e). Where a root's label changes the line turns
+    colour half-way between the two speeds, at a marker. Returns the markers.
+    """
+    marks = []
+    n_s, n_e = values.shape
+    for c in range(n_e):
+        y, lab = values[:, c], labels[:, c]
+        start = 0
+        for s in list(np.flatnonzero(lab[1:] != lab[:-1]) + 1) + [n_s]:
+            xs, ys = list(x[start:s]), list(y[start:s])
+            if start > 0:  # from half-way after the change
+                xs.insert(0, 0.5 * (x[start - 1] + x[start]))
+                ys.insert(0, 0.5 * (y[start - 1] + y[start]))
+            if s < n_s:  # to half-way before the next
+                xs.append(0.5 * (x[s - 1] + x[s]))
+                ys.append(0.5 * (y[s - 1] + y[s]))
+                marks.append((xs[-1], ys[-1]))
+            i = lab[start]
+            ax.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6)
+            start = s
+    return marks
 
 
 def coleman_diagram(result, fig=None, show_damping_ratio=False):
@@ -59,7 +149,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     ----------
     result : SweepResult
     fig : matplotlib Figure, optional
-        Figure to draw in (two axes are added); a new one if None.
+        Figure to draw in (two or three axes are added); a new one if None.
     show_damping_ratio : bool
         Plot the damping ratio instead of the real part in the lower panel.
 
@@ -71,39 +161,92 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(10, 8), layout="constrained")
-    ax_f, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
     factor, unit = speed_axis(result)
     w = result.rotor_speed / factor
     freq = result.frequency / factor
     lower = result.damping_ratio if show_damping_ratio else result.real_part
     normalised = unit == "-"
     f_unit = "-" if normalised else _FREQ_UNIT[unit]
+    modes = result.modes
+    grows = result.real_part > growth_threshold(result.rotor_speed)[:, None]
+    finite = lower[np.isfinite(lower)]
+    span = float(finite.max() - finite.min()) if finite.size else 0.0
+    bump = float(result.real_part.max()) if result.real_part.size else 0.0
+    zoom = (not show_damping_ratio) and grows.any() and 0 < bump < _SMALL_BUMP * span
+    if zoom:
+        ax_f, ax_d, ax_z = fig.subplots(3, 1, sharex=True, height_ratios=[3, 2, 1.2])
+    else:
+        ax_f, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
+        ax_z = None
+    panels = [ax for ax in (ax_f, ax_d, ax_z) if ax is not None]
 
     for s, e in result.stability.unstable_ranges:
-        for ax in (ax_f, ax_d):
+        for ax in panels:
             ax.axvspan(s / factor, e / factor, color="#d62728", alpha=0.12, lw=0)
-    grows = result.real_part > growth_threshold(result.rotor_speed)[:, None]
-    branch = result.modes.branch
-    jump = 0.4 * w if len(result.modes.orders) > 1 else None  # a harmonic is Omega
+    n_s = len(w)
+    succ = modes.successor() if n_s > 1 else np.zeros((0, len(result.labels)), int)
+    exchange = modes.exchange
+    harmonic = (
+        result.modes.harmonic_change if result.frame == "nonrotating" else modes.harmonic_change_rotating
+    )
+    per_rev = w  # a harmonic is Omega, in plot units
+
+    def freq_jump(s, label, out):
+        return abs(freq[s + 1, out] - freq[s, label]) > 0.25 * per_rev[s + 1]
+
+    dashed = _coincident([freq, np.nan_to_num(lower)], [max(np.nanmax(freq), 1e-12), max(span, 1e-12)])
+    colours = [label_colour(label, i) for i, label in enumerate(result.labels)]
+    styles = [(0, (5, 4)) if i in dashed else _style(label) for i, label in enumerate(result.labels)]
+    marks_f, marks_d = [], []
     for i, label in enumerate(result.labels):
-        colour = label_colour(label, i)
-        style = "--" if "flap" in label or label == "coning" else "-"
-        ax_f.plot(*_broken(w, freq[:, i], branch[:, i], jump), style, color=colour, lw=1.6, label=label)
-        ax_d.plot(*_broken(w, lower[:, i], branch[:, i]), style, color=colour, lw=1.6)
-        if grows[:, i].any():
-            hot = np.where(grows[:, i], freq[:, i], np.nan)
-            ax_f.plot(*_broken(w, hot, branch[:, i], jump), "-", color=colour, lw=4.0, alpha=0.5)
+        pieces, marks = _segments(w, freq, succ, exchange, i, freq_jump)
+        for k, (xs, ys) in enumerate(pieces):
+            ax_f.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6, label=label if k == 0 else None)
+        marks_f += marks
+    if show_damping_ratio:
+        for i in range(len(result.labels)):
+            pieces, marks = _segments(w, lower, succ, exchange, i)
+            for xs, ys in pieces:
+                ax_d.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6)
+            marks_d += marks
+    else:  # every root: continuous, coloured by its mode's label
+        for ax in (ax_d, ax_z):
+            if ax is not None:
+                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours)
+                marks_d += marks if ax is ax_d else []
+    for i in np.flatnonzero(grows.any(0)):  # the growing stretches, highlighted
+        ax_f.plot(w, np.where(grows[:, i], freq[:, i], np.nan), "-", color=colours[i], lw=4.0, alpha=0.5)
+    handles_extra = []
+    from matplotlib.lines import Line2D
+
+    if marks_f or marks_d:
+        for ax, marks in ((ax_f, marks_f), (ax_d, marks_d)):
+            if marks:
+                mx, my = np.array(marks).T
+                ax.plot(mx, my, "o", ms=4.5, mfc="white", mec="0.2", mew=0.9, zorder=5)
+        handles_extra.append(
+            (Line2D([], [], ls="", marker="o", ms=4.5, mfc="white", mec="0.2"), "branches exchange labels")
+        )
+    flagged = np.argwhere(harmonic)
+    if len(flagged):
+        ax_f.plot(w[flagged[:, 0]], freq[flagged[:, 0], flagged[:, 1]], "x", ms=6, color="0.15", zorder=6)
+        handles_extra.append(
+            (Line2D([], [], ls="", marker="x", ms=6, color="0.15"), "frequency moves to another harmonic")
+        )
     # 1/rev (and 2/rev) references
-    speeds = np.array([w[0], w[-1]])
-    ax_f.plot(speeds, speeds, ":", color="0.45", lw=1.0, label="1/rev")
-    ax_f.plot(speeds, 2 * speeds, ":", color="0.75", lw=1.0, label="2/rev")
-    ax_d.axhline(0.0, color="0.3", lw=0.8)
+    ends = np.array([w[0], w[-1]])
+    ax_f.plot(ends, ends, ":", color="0.45", lw=1.0, label="1/rev")
+    ax_f.plot(ends, 2 * ends, ":", color="0.75", lw=1.0, label="2/rev")
+    for ax in panels[1:]:
+        ax.axhline(0.0, color="0.3", lw=0.8)
     if not show_damping_ratio:
         # neutral roots of undamped cases sit at zero up to round-off: keep a visible scale
-        span = np.nanmax(np.abs(lower)) if np.isfinite(lower).any() else 0.0
-        floor = 0.02 * max(np.nanmax(result.frequency), 1e-12)
-        if span < floor:
+        floor = 0.02 * max(np.nanmax(result.frequency) if np.isfinite(result.frequency).any() else 0, 1e-12)
+        if span < floor and np.nanmax(np.abs(lower)) < floor:
             ax_d.set_ylim(-floor, floor)
+    if ax_z is not None:
+        ax_z.set_ylim(-2.0 * bump, 1.6 * bump)
+        ax_z.set_ylabel("near zero [1/s]")
     top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
     ax_f.set_ylim(0, 1.05 * top)
     ax_f.set_xlim(w[0], w[-1])
@@ -117,12 +260,13 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         ax_d.set_ylabel("damping ratio [-]")
     else:
         ax_d.set_ylabel("real part (modal damping) [1/s]")
+    bottom = panels[-1]
     if normalised:
         ref = result.case.sweep.reference / SPEED_UNITS[result.case.sweep.unit]
-        ax_d.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {result.case.sweep.unit})")
+        bottom.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {result.case.sweep.unit})")
     else:
-        ax_d.set_xlabel(f"rotor speed [{unit}]")
-    for ax in (ax_f, ax_d):
+        bottom.set_xlabel(f"rotor speed [{unit}]")
+    for ax in panels:
         ax.grid(True, color="0.9", lw=0.6)
     ranges = result.stability.unstable_ranges
     if ranges:
@@ -132,6 +276,9 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         text = "stable over the whole sweep"
     ax_f.set_title(f"{result.case.title}\n{result.method}, {frame} frame; {text}", fontsize=10)
     handles, labels = ax_f.get_legend_handles_labels()
+    for h, t in handles_extra:
+        handles.append(h)
+        labels.append(t)
     if ranges:
         from matplotlib.patches import Patch
 
