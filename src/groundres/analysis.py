@@ -189,10 +189,11 @@ class _Floquet(_Solver):
     def sweep(self, speeds):
         fs = floquet.solve(self.system, speeds)
         n = self.system.size
-        # branches: multipliers and monodromy eigenvectors vary continuously with speed
+        # branches: exponents (modulo Omega) and eigenvectors vary continuously
+        # with speed (the multipliers' phases wrap many times over a slow period)
         disp = fs.vector[:, :n, :]
         disp = disp / np.maximum(np.linalg.norm(disp, axis=1, keepdims=True), 1e-300)
-        order = modal.track_order(fs.multiplier, disp, np.zeros(2 * n, int), speeds)
+        order = modal.track_order(fs.exponent, disp, np.zeros(2 * n, int), speeds, periodic=True)
         rho, lam, disp, harmonics = _reorder(order, fs.multiplier, fs.exponent, disp, fs.harmonics)
         return modal.Eigensolution(lam, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, fs.orders, rho)
 

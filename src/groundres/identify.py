@@ -449,17 +449,18 @@ def _pairs(z, frac, sigma, still, shapes):
     return reps, others
 
 
-def _assign(score, real_part, threshold, reps, others, n_cols, z):
+def _assign(score, real_part, threshold):
     """Label of every mode at every speed, by content (see the module docstring).
 
     score : (n_s, n_m, n_l) content fraction of each mode in each label;
-    z : (n_s, n_m) each mode's pairing key (eigenvalue or multiplier).
+    real_part : (n_s, n_m); threshold : (n_s,) growth threshold.
     Returns choice (n_s, n_m): label index of each mode.
 
-    A mode keeps its previous label (within the margin) only when its tracked
-    predecessor is clearly the nearest root of the previous speed: where two
-    roots have just met and parted (an exceptional point) neither continues
-    the other, and the content alone decides.
+    A mode keeps its previous label (within the margin) when one mode of the
+    previous speed is clearly the nearest to it in real part and content:
+    physical quantities only, so that every method continues the same way;
+    where two roots have just met and parted (an exceptional point) neither
+    continues the other, and the content alone decides.
     """
     n_s, n_m, n_l = score.shape
     choice = np.argmax(score, axis=-1)
@@ -475,16 +476,13 @@ def _assign(score, real_part, threshold, reps, others, n_cols, z):
     for k in np.flatnonzero(~clear):  # in speed order: each needs the previous speed's labels
         sc = score[k] + tie[k]
         if k > 0:
-            col_mode = np.full(n_cols, -1)
-            col_mode[others[k - 1]] = np.arange(n_m)
-            col_mode[reps[k - 1]] = np.arange(n_m)
-            for i in range(n_m):
-                p = col_mode[reps[k, i]] if col_mode[reps[k, i]] >= 0 else col_mode[others[k, i]]
-                if p < 0:
-                    continue
-                d = np.abs(z[k, i] - z[k - 1])
-                if n_m == 1 or d[p] <= 0.5 * np.delete(d, p).min():
-                    sc[i, choice[k - 1, p]] += LABEL_MARGIN
+            scale = np.abs(real_part[k]).max() + 1e-300
+            d = np.abs(real_part[k][:, None] - real_part[k - 1][None, :]) / scale
+            d = d + np.abs(score[k][:, None] - score[k - 1][None, :]).sum(-1)  # (now, before)
+            order = np.sort(d, axis=-1)
+            nearest = np.argmin(d, axis=-1)
+            sure = order[:, 0] <= 0.5 * order[:, 1]
+            sc[np.flatnonzero(sure), choice[k - 1, nearest[sure]]] += LABEL_MARGIN
         grows = real_part[k] > threshold[k]
         sc[grows, choice[k, grows]] += 10.0  # a growing mode takes its top label
         choice[k] = linear_sum_assignment(-sc)[1]
@@ -679,7 +677,7 @@ def identify(
         rows = np.arange(n_s)[:, None]
         score = (frac_b[rows, reps] + frac_b[rows, others]) / 2
         real = np.maximum(eigenvalue[:, cols][rows, reps].real, eigenvalue[:, cols][rows, others].real)
-        choice = _assign(score, real, threshold, reps, others, len(cols), key[:, cols][rows, reps])
+        choice = _assign(score, real, threshold)
         for k, g in enumerate(groups):
             if g.kind in ("cyclic", "whirl") and g.coords[0] in members:
                 first = mine.tolist().index(_offsets(groups)[k])

@@ -199,13 +199,16 @@ def _assign_min(cost):
     return best
 
 
-def track_order(eigenvalue, vector, block, speeds) -> np.ndarray:
+def track_order(eigenvalue, vector, block, speeds, periodic=False) -> np.ndarray:
     """Column order at each speed that makes each column one continuous branch.
 
     Cost of joining root i at one speed to root j at the next: 1 - MAC of the
     vectors plus twice the eigenvalue change relative to its size, within each
     block. The costs of all speed steps are formed at once and matched by
     :func:`_assign_min`; chaining the matches is the only step per speed.
+    With ``periodic`` the roots are Floquet exponents, whose imaginary parts
+    count only modulo the next speed's Omega: the change is measured to the
+    nearest representative.
 
     Returns
     -------
@@ -224,7 +227,12 @@ def track_order(eigenvalue, vector, block, speeds) -> np.ndarray:
         v = vec[:, rows[:, None], cols]  # (n_s, r, m)
         mac = np.abs(np.einsum("sri,srj->sij", v[:-1].conj(), v[1:])) ** 2
         lb = lam[:, cols]
-        dist = np.abs(lb[:-1, :, None] - lb[1:, None, :]) / (np.abs(lb[:-1, :, None]) + floor)
+        change = lb[:-1, :, None] - lb[1:, None, :]
+        if periodic:
+            omega = np.maximum(np.asarray(speeds, float)[1:, None, None], 1e-300)
+            shift = np.rint(change.imag / omega) * omega
+            change = change - 1j * np.where(np.asarray(speeds)[1:, None, None] > 0, shift, 0)
+        dist = np.abs(change) / (np.abs(lb[:-1, :, None]) + floor)
         step = _assign_min(1.0 - mac + 2.0 * dist)  # (n_s-1, m): root i at s -> step[s, i] at s+1
         chain = np.empty((n_s, len(cols)), int)
         chain[0] = np.arange(len(cols))
