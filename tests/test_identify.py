@@ -10,7 +10,7 @@ from scipy.optimize import linear_sum_assignment
 
 from conftest import PITCH_ROLL, make_case
 from groundres import analyze, load_case
-from groundres.identify import label_groups
+from groundres.content import label_groups
 from groundres.mbc import Coordinate
 
 ISOTROPIC = dict(mass_y=8026.6, damping_y=51078.7)
@@ -29,6 +29,9 @@ def failed(case, *blades, fraction=0.0):
 # analysis of the untransformed equations must agree root by root.
 BOTH_WAYS = {
     "3 blades, anisotropic hub": lambda: make_case(n_blades=3, sweep=SWEEP),
+    "4 blades, no damping, anisotropic hub": lambda: make_case(
+        blade=dict(lag_damping=0.0), body=dict(damping_x=0.0, damping_y=0.0), sweep=SWEEP
+    ),
     "5 blades with flap, anisotropic hub": lambda: make_case(
         n_blades=5, flap=True, blade=dict(flap_stiffness=1e5), sweep=SWEEP
     ),

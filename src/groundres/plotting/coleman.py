@@ -59,37 +59,66 @@ def speed_axis(result):
     return SPEED_UNITS[sweep.unit], sweep.unit
 
 
-def _coincident(values, scale):
-    """Labels whose curves lie on another's over most of the sweep (they are drawn dashed)."""
-    n = values[0].shape[1]
-    out = set()
-    for i in range(n):
-        for j in range(i):
-            if j in out:
-                continue
-            near = np.ones(values[0].shape[0], bool)
-            for v, sc in zip(values, scale):
-                near &= np.abs(v[:, i] - v[:, j]) <= 0.004 * sc
-            if near.mean() > 0.3:
-                out.add(i)
-    return out
+#: Dashes of a stretch of line that lies on another drawn before it.
+_OVER = (0, (4, 3))
+
+
+def _covered(values, tol, other=None):
+    """Where each column lies on an earlier column (within ``tol``): (n_s, n).
+
+    ``other`` (n_s, n), if given: only columns with a different value there
+    count (the two roots of one mode lie on each other by nature).
+    """
+    near = np.abs(values[:, :, None] - values[:, None, :]) <= tol
+    near &= np.tril(np.ones(near.shape[1:], bool), -1)  # [i, j]: j drawn before i
+    if other is not None:
+        near &= other[:, :, None] != other[:, None, :]
+    return near.any(-1)
+
+
+def _draw(ax, xs, ys, covered, style, colour, label=None):
+    """A polyline; its stretches on a line drawn before it are dashed, so both show."""
+    if len(xs) < 2:
+        return
+    covered = np.asarray(covered, bool)
+    on = covered[:-1] & covered[1:]  # per segment
+    start = 0
+    for k in range(1, len(on) + 1):
+        if k == len(on) or on[k] != on[start]:
+            ax.plot(
+                xs[start : k + 1],
+                ys[start : k + 1],
+                linestyle=_OVER if on[start] else style,
+                color=colour,
+                lw=1.6,
+                label=label,
+            )
+            label = None
+            start = k
 
 
 def _segments(x, y, succ, exchange, label, jump=None):
-    """Pieces of one label's line: (xs, ys, colour label) in order.
+    """Pieces of one label's line: (xs, ys, grid index of each vertex or -1) in order.
 
     Between speeds where the label stays on its branch the piece is the
     label's own; where it moves to another branch the piece follows the
     branch it leaves up to half-way (and a separate piece the branch it joins
     from half-way), unless ``jump`` says that branch's values jump there.
+    Where the label's own values jump (``jump``: to another harmonic) the
+    line stops and starts again: no line is drawn across a jump.
     """
     n_s = len(x)
     pieces, marks = [], []
-    xs, ys = [x[0]], [y[0, label]]
+    xs, ys, at = [x[0]], [y[0, label]], [0]  # at: grid index of each vertex (-1 half-way)
     for s in range(n_s - 1):
         if not exchange[s + 1, label]:
+            if jump is not None and jump(s, label, label):  # moved harmonic: a gap, no line across
+                pieces.append((xs, ys, at))
+                xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
+                continue
             xs.append(x[s + 1])
             ys.append(y[s + 1, label])
+            at.append(s + 1)
             continue
         out = succ[s, label] if succ[s, label] >= 0 else label
         mid_x = 0.5 * (x[s] + x[s + 1])
@@ -97,22 +126,31 @@ def _segments(x, y, succ, exchange, label, jump=None):
         if along:
             xs.append(mid_x)
             ys.append(0.5 * (y[s, label] + y[s + 1, out]))
+            at.append(-1)
             marks.append((xs[-1], ys[-1]))
-            pieces.append((xs, ys))
+            pieces.append((xs, ys, at))
             # the branch this label joins, from half-way (a branch that only
             # now becomes a mode of its own, e.g. two real roots turning into
             # a conjugate pair, starts here)
             into = np.flatnonzero(succ[s] == label)
-            if len(into):
+            if len(into) and not (jump is not None and jump(s, int(into[0]), label)):
                 src = int(into[0])
                 xs, ys = [mid_x, x[s + 1]], [0.5 * (y[s, src] + y[s + 1, label]), y[s + 1, label]]
+                at = [-1, s + 1]
             else:
-                xs, ys = [x[s + 1]], [y[s + 1, label]]
+                xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
+        elif jump(s, label, label):
+            # the label's own values jump as well (to another harmonic): no
+            # line across the gap, a marker where the line goes on
+            marks.append((x[s + 1], y[s + 1, label]))
+            pieces.append((xs, ys, at))
+            xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
         else:
             marks.append((mid_x, 0.5 * (y[s, label] + y[s + 1, label])))
             xs.append(x[s + 1])
             ys.append(y[s + 1, label])
-    pieces.append((xs, ys))
+            at.append(s + 1)
+    pieces.append((xs, ys, at))
     return pieces, marks
 
 
@@ -124,20 +162,24 @@ def _roots(ax, x, values, labels, styles, colours):
     """
     marks = []
     n_s, n_e = values.shape
+    finite = values[np.isfinite(values)]
+    covered = _covered(values, 0.004 * max(np.ptp(finite) if finite.size else 0.0, 1e-12), labels)
     for c in range(n_e):
         y, lab = values[:, c], labels[:, c]
         start = 0
         for s in list(np.flatnonzero(lab[1:] != lab[:-1]) + 1) + [n_s]:
-            xs, ys = list(x[start:s]), list(y[start:s])
+            xs, ys, cov = list(x[start:s]), list(y[start:s]), list(covered[start:s, c])
             if start > 0:  # from half-way after the change
                 xs.insert(0, 0.5 * (x[start - 1] + x[start]))
                 ys.insert(0, 0.5 * (y[start - 1] + y[start]))
+                cov.insert(0, False)
             if s < n_s:  # to half-way before the next
                 xs.append(0.5 * (x[s - 1] + x[s]))
                 ys.append(0.5 * (y[s - 1] + y[s]))
+                cov.append(False)
                 marks.append((xs[-1], ys[-1]))
             i = lab[start]
-            ax.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6)
+            _draw(ax, xs, ys, cov, styles[i], colours[i])
             start = s
     return marks
 
@@ -194,22 +236,24 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     def freq_jump(s, label, out):
         return abs(freq[s + 1, out] - freq[s, label]) > 0.25 * per_rev[s + 1]
 
-    dashed = _coincident([freq, np.nan_to_num(lower)], [max(np.nanmax(freq), 1e-12), max(span, 1e-12)])
     colours = [label_colour(label, i) for i, label in enumerate(result.labels)]
-    styles = [(0, (5, 4)) if i in dashed else _style(label) for i, label in enumerate(result.labels)]
+    styles = [_style(label) for label in result.labels]
     marks_f, marks_d = [], []
-    for i, label in enumerate(result.labels):
-        pieces, marks = _segments(w, freq, succ, exchange, i, freq_jump)
-        for k, (xs, ys) in enumerate(pieces):
-            ax_f.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6, label=label if k == 0 else None)
-        marks_f += marks
+    top_f = max(np.nanmax(freq) if np.isfinite(freq).any() else 0.0, 1e-12)
+    by_label = [(ax_f, freq, freq_jump, 0.004 * top_f, marks_f)]
     if show_damping_ratio:
+        by_label.append((ax_d, lower, None, 0.004 * max(span, 1e-12), marks_d))
+    mostly_covered = np.zeros(len(result.labels), bool)
+    for ax, values, jump, tol, marks_out in by_label:
+        covered = _covered(np.nan_to_num(values), tol)
+        if ax is ax_f:
+            mostly_covered = covered.mean(0) > 0.5
         for i in range(len(result.labels)):
-            pieces, marks = _segments(w, lower, succ, exchange, i)
-            for xs, ys in pieces:
-                ax_d.plot(xs, ys, linestyle=styles[i], color=colours[i], lw=1.6)
-            marks_d += marks
-    else:  # every root: continuous, coloured by its mode's label
+            pieces, marks = _segments(w, values, succ, exchange, i, jump)
+            for xs, ys, at in pieces:
+                _draw(ax, xs, ys, [covered[a, i] if a >= 0 else False for a in at], styles[i], colours[i])
+            marks_out.extend(marks)
+    if not show_damping_ratio:  # every root: continuous, coloured by its mode's label
         for ax in (ax_d, ax_z):
             if ax is not None:
                 marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours)
@@ -275,7 +319,14 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     else:
         text = "stable over the whole sweep"
     ax_f.set_title(f"{result.case.title}\n{result.method}, {frame} frame; {text}", fontsize=10)
-    handles, labels = ax_f.get_legend_handles_labels()
+    handles = [
+        Line2D([], [], color=colours[i], lw=1.6, linestyle=_OVER if mostly_covered[i] else styles[i])
+        for i in range(len(result.labels))
+    ]
+    labels = list(result.labels)
+    more, more_labels = ax_f.get_legend_handles_labels()  # the 1/rev lines
+    handles += more
+    labels += more_labels
     for h, t in handles_extra:
         handles.append(h)
         labels.append(t)
