@@ -194,17 +194,12 @@ def _order_still(choice, real, share, first, second):
     frame (an overdamped cyclic lag near Omega, a body whirl near zero), the
     sign of that frequency names nothing: the less damped takes the first
     label (regressive; forward). Modifies ``choice`` (n_s, n_m) in place."""
-    for s in range(choice.shape[0]):
-        a = np.flatnonzero(choice[s] == first)
-        b = np.flatnonzero(choice[s] == second)
-        if (
-            len(a)
-            and len(b)
-            and share[s, a[0]] > 0.5
-            and share[s, b[0]] > 0.5
-            and real[s, b[0]] > real[s, a[0]]
-        ):
-            choice[s, a[0]], choice[s, b[0]] = second, first
+    rows = np.arange(choice.shape[0])
+    a = np.argmax(choice == first, axis=-1)  # mode holding each label (every label is held)
+    b = np.argmax(choice == second, axis=-1)
+    swap = (share[rows, a] > 0.5) & (share[rows, b] > 0.5) & (real[rows, b] > real[rows, a])
+    choice[rows[swap], a[swap]] = second
+    choice[rows[swap], b[swap]] = first
 
 
 def _merge_equal(freq, energy, scale):
@@ -251,36 +246,34 @@ def continuous_choice(freq, energy, speeds, ratio=HARMONIC_RATIO):
     # direction that whirls as much forward as backward)
     eligible = energy >= top[..., None] / ratio
     pick = np.argmin(np.where(eligible, freq, np.inf), axis=-1)  # (n_s, n_l)
-    jump = np.zeros((n_s, n_l), bool)
     if n_c == 1 or n_s == 1:
-        return pick, jump
+        return pick, np.zeros((n_s, n_l), bool)
     concentration = energy.max(-1) / np.maximum(raw_total, 1e-300)
     most = concentration >= concentration.max(0) - 1e-9
     anchor = n_s - 1 - np.argmax(most[::-1], axis=0)  # (n_l,)
     lines = np.arange(n_l)
-
-    def step(s, prev):
-        go = (s > anchor) if prev < s else (s < anchor)
-        if not go.any():
-            return
+    here = np.arange(n_s)[:, None]
+    # where only one candidate is eligible it is the pick; elsewhere the line
+    # continues from its neighbour towards the anchor, one speed after another
+    choice = eligible.sum(-1) > 1
+    choice[anchor, lines] = False
+    forward = np.flatnonzero((choice & (here > anchor)).any(1))
+    backward = np.flatnonzero((choice & (here < anchor)).any(1))[::-1]
+    for s, prev in [(s, s - 1) for s in forward] + [(s, s + 1) for s in backward]:
+        go = choice[s] & ((s > anchor) if prev < s else (s < anchor))
         gap = np.abs(freq[s] - freq[prev, lines, pick[prev]][:, None])
-        e_best = top[s][:, None]
-        # the line follows the nearest candidate holding at least 1/ratio of the
-        # largest content; it changed harmonic if it left a nearer one with content
-        cont = np.argmin(np.where(energy[s] >= e_best / ratio, gap, np.inf), axis=-1)
-        near = np.argmin(np.where(energy[s] > 1e-6 * e_best, gap, np.inf), axis=-1)
-        moved = gap[lines, cont] > gap[lines, near] + 0.25 * speeds[s]
+        cont = np.argmin(np.where(eligible[s], gap, np.inf), axis=-1)
         pick[s] = np.where(go, cont, pick[s])
-        jump[s] = np.where(go, moved, jump[s])
-
-    for s in range(1, n_s):
-        step(s, s - 1)
-    for s in range(n_s - 2, -1, -1):
-        step(s, s + 1)
-    # a backward step from s + 1 to s is marked at s + 1, the later speed
-    back = np.zeros_like(jump)
-    back[1:] = jump[:-1]
-    jump = np.where(np.arange(n_s)[:, None] > anchor, jump, back)
+    # a line moved harmonic where it left a nearer candidate that has content:
+    # marked at the later speed of the step, from the neighbour towards the anchor
+    prev = np.where(here > anchor, here - 1, here + 1).clip(0, n_s - 1)
+    gap = np.abs(freq - np.take_along_axis(freq, pick[..., None], -1)[prev, lines, 0][..., None])
+    near = np.argmin(np.where(energy > 1e-6 * top[..., None], gap, np.inf), axis=-1)
+    picked = np.take_along_axis(gap, pick[..., None], -1)[..., 0]
+    moved = (picked > np.take_along_axis(gap, near[..., None], -1)[..., 0] + 0.25 * speeds[:, None]) & (
+        here != anchor
+    )
+    jump = np.where(here > anchor, moved, np.vstack([np.zeros((1, n_l), bool), moved[:-1]]))
     return pick, jump
 
 
