@@ -235,24 +235,6 @@ def test_body_modes_in_rotating_axes_follow_their_whirl(case):
     assert checked > 10
 
 
-def test_floquet_from_the_rotor_at_rest():
-    """start = 0: the rotor at rest is solved as it is; just above it the
-    periods are long and the lifted problem keeps the damped roots. Identical
-    blades, so the multiblade eigenvalues are the reference at every speed."""
-    case = make_case(sweep=(0.0, 12.0, 40))
-    eigen = analyze(case)
-    flq = analyze(case, method="floquet")
-    assert flq.labels == eigen.labels
-    # 1e-8 of the root's size (at 0.3 rad/s a period is 20 s and the damped
-    # roots come from the lifted problem, to about 1e-7 1/s)
-    size = np.maximum(np.abs(eigen.modes.eigenvalue), np.maximum(eigen.rotor_speed, 1.0)[:, None])
-    for field in ("frequency_nonrotating", "real_part"):
-        a, b = getattr(eigen.modes, field), getattr(flq.modes, field)
-        assert (np.abs(a - b) <= 1e-8 * size).all(), field
-    # the slowest speeds needed the lifted problem, and damped roots survived it
-    assert flq.modes.real_part[1].min() < -3.0
-
-
 def test_label_groups_name_every_coordinate():
     coords = [Coordinate("body", "x"), Coordinate("body", "y"), Coordinate("lag", "0")]
     coords += [Coordinate("lag", "1c", 1), Coordinate("lag", "1s", 1), Coordinate("lag", "d", 2)]

@@ -94,8 +94,7 @@ class _Solver:
         return type(self)(System(replace(self.system.rotor, blades=new), self.system.body))
 
     def weights(self, speeds):
-        mats = self.system.multiblade(speeds)
-        return np.abs(np.diagonal(mats[0], axis1=-2, axis2=-1))
+        return self.system.kinetic_weights(speeds)
 
     def identify(self, sol: modal.Eigensolution, speeds) -> Modes:
         """Labels and frequencies of a tracked solution (:func:`groundres.identify.identify`)."""
@@ -171,7 +170,7 @@ class _Rotating(_Solver):
                 xa, xb = raw.vector[None, :, ia, :], raw.vector[None, :, ib, :]
                 q[:, :, ia, :] = c * xa - s * xb
                 q[:, :, ib, :] = s * xa + c * xb
-        harmonics, orders = self.system.nonrotating_harmonics(q, phase, self.samples // 2 - 1)
+        harmonics, orders = self.system.nonrotating_harmonics(q, self.samples // 2 - 1)
         one = np.zeros(raw.vector.shape[-1], int)  # labels are in nonrotating coordinates: one block
         return modal.Eigensolution(
             raw.eigenvalue, raw.vector, one, [np.arange(raw.vector.shape[1])], harmonics, orders
@@ -194,8 +193,8 @@ class _Floquet(_Solver):
         disp = fs.vector[:, :n, :]
         disp = disp / np.maximum(np.linalg.norm(disp, axis=1, keepdims=True), 1e-300)
         order = modal.track_order(fs.exponent, disp, np.zeros(2 * n, int), speeds, periodic=True)
-        rho, lam, disp, harmonics = _reorder(order, fs.multiplier, fs.exponent, disp, fs.harmonics)
-        return modal.Eigensolution(lam, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, fs.orders, rho)
+        key, lam, disp, harmonics = _reorder(order, fs.key, fs.exponent, disp, fs.harmonics)
+        return modal.Eigensolution(lam, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, fs.orders, key)
 
 
 _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floquet}
@@ -204,13 +203,6 @@ _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floque
 def root_solver(case: Case, form: str | None = None):
     """The solver of a case's roots (``.roots(speeds)``) by method form."""
     return _SOLVERS[form or choose_method(case)](System(case.rotor, case.body))
-
-
-def _ratio(roots):
-    """Damping ratio -Re/|root| (inf for a root at the origin)."""
-    size = np.abs(roots)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(size > 1e-12 * max(float(size.max()), 1e-300), -roots.real / size, np.inf)
 
 
 def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> float:
@@ -228,7 +220,8 @@ def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> f
     else:
         m = np.rint((target.imag - roots.imag) / w)
         cand = roots.real + 1j * np.abs(roots.imag + m * w)
-    return float(_ratio(cand[np.argmin(np.abs(cand - target))]))
+    best = cand[np.argmin(np.abs(cand - target))]
+    return float(np.nan_to_num(identify.damping_ratio(best, scale=np.abs(cand).max()), nan=np.inf))
 
 
 def analyze(case: Case, *, frame: str | None = None, method: str | None = None, speeds=None) -> SweepResult:
@@ -254,7 +247,7 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
     modes = solver.identify(solver.sweep(speeds), speeds)
     max_real = modes.real_part.max(-1)
-    ratios = _ratio(modes.eigenvalue)
+    ratios = np.nan_to_num(modes.damping_ratio, nan=np.inf)  # (a root at the origin has none)
 
     def min_ratio_at(w):
         label = int(np.argmin(ratios[np.argmin(np.abs(speeds - w))]))
@@ -284,10 +277,18 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
 
 
 def _minimum_lag_damping(solver, case, speeds, deutsch):
-    """Smallest lag damping (on every blade that has a damper) for a stable sweep."""
+    """Smallest lag damping (on every blade that has a damper) for a stable sweep.
+
+    The search looks at speeds from half the lowest body frequency up: the
+    regressive lag mode, at Omega (1 - nu), meets a body mode only above it,
+    and a periodic analysis of the slowest speeds is the costliest of all.
+    """
     periodic = not isinstance(solver, _Multiblade)
     count = 60 if periodic else 200
-    scan = speeds[np.unique(np.linspace(0, len(speeds) - 1, min(len(speeds), count)).round().astype(int))]
+    body = [e.body_frequency for e in deutsch if e.body_frequency]
+    low = 0.5 * min(body) if body else 0.0
+    above = speeds[speeds >= low] if (speeds >= low).any() else speeds[-1:]
+    scan = above[np.unique(np.linspace(0, len(above) - 1, min(len(above), count)).round().astype(int))]
 
     def growth(lag_damping):
         trial = solver.with_lag_damping(lag_damping)

@@ -63,8 +63,9 @@ class _Group(click.Group):
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from .analysis import MethodError
             from .config import CaseError
+            from .transition import SpeedRangeError
 
-            if isinstance(err, (CaseError, MethodError)):
+            if isinstance(err, (CaseError, MethodError, SpeedRangeError)):
                 raise _UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise

@@ -20,7 +20,9 @@ R = G^-1 Phi(Delta) and are unique up to multiples of (N/j) Omega.
 Low rotor speeds. The period grows as 1/Omega, so a well damped mode decays
 over it by many decades and the eigenvalues of the product Phi(Delta) lose
 the small multipliers to round-off. Where the multipliers of a speed span
-more than exp(LIFT_SPREAD), the period is cut into K parts with transition
+more than exp(LIFT_SPREAD) (as seen, or as the frozen system's real parts
+foretell: the multipliers themselves cannot show a spread beyond
+round-off), the period is cut into K parts with transition
 matrices Q_k and the multipliers come from the lifted, block-cyclic matrix
 whose eigenvalues z satisfy z^K = rho (the eigenvalue problem of a periodic
 matrix product, solved as in Bojanczyk, Golub and Van Dooren 1992, "The
@@ -48,7 +50,9 @@ from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for call
     DOP8,
     STEP_SCALE,
     TOLERANCE,
+    SpeedRangeError,
     divisor_at_least,
+    frozen_real_parts,
     integrate,
     ordered_product,
     rates_per_radian,
@@ -137,6 +141,15 @@ class FloquetSolution:
     speeds : ndarray (n_s,)
     lifted : bool ndarray (n_s,)
         Speeds solved through the lifted problem.
+    key : complex ndarray (n_s, 2n)
+        The multipliers with their moduli compressed (no underflow), for
+        telling conjugate pairs: conjugate exponents (modulo the period's
+        frequency) have conjugate keys.
+
+    At Omega = 0 the exponents are the roots of the system at rest, the
+    vectors its eigenvectors in [q; dq/dt] and the multipliers exp(lambda T)
+    over the reduced period T of the lowest speed that turns (so that branches
+    continue into the sweep).
     """
 
     exponent: np.ndarray
@@ -148,6 +161,14 @@ class FloquetSolution:
     steps: np.ndarray
     speeds: np.ndarray
     lifted: np.ndarray
+    key: np.ndarray
+
+
+def _pairing_key(lam, dt):
+    """exp(lambda dt) with the decay compressed so that it cannot underflow."""
+    decay = lam.real * dt[:, None]
+    squeeze = np.minimum(1.0, 600.0 / np.maximum(np.abs(decay).max(-1, keepdims=True), 1e-300))
+    return np.exp(decay * squeeze + 1j * lam.imag * dt[:, None])
 
 
 def lifted_eig(parts, g):
@@ -163,7 +184,8 @@ def lifted_eig(parts, g):
     Returns
     -------
     z : complex ndarray (m,)
-        Eigenvalues of the block-cyclic matrix with |arg z| <= pi/K: rho = z^K.
+        Eigenvalues of the block-cyclic matrix with arg z in (-pi/K, pi/K]:
+        rho = z^K, one z for each rho.
     starts : complex ndarray (K, m, m)
         ``starts[k]`` is Phi(psi_k) v / z^k at the start psi_k of part k: the
         periodic part of the Floquet solution there, for every root (columns).
@@ -174,7 +196,14 @@ def lifted_eig(parts, g):
     for k in range(1, k_parts):
         lifted[k * m : (k + 1) * m, (k - 1) * m : k * m] = parts[k - 1]
     values, vectors = np.linalg.eig(lifted)
-    pick = np.argsort(np.abs(np.angle(values)), kind="stable")[:m]
+    # the K roots z of each rho are 2 pi/K apart in angle: exactly one lies in
+    # the half-open sector (-pi/K, pi/K] (a negative rho has two on its edges;
+    # the sector is turned a little so that round-off cannot take both)
+    turn = 1e-7 * np.pi / k_parts
+    angle = np.angle(values * np.exp(-1j * turn))
+    pick = np.flatnonzero((angle > -np.pi / k_parts) & (angle <= np.pi / k_parts))
+    if len(pick) != m:  # round-off at an edge after all: the m nearest the middle
+        pick = np.argsort(np.abs(angle), kind="stable")[:m]
     return values[pick], vectors[:, pick].reshape(k_parts, m, m)
 
 
@@ -218,8 +247,7 @@ def _harmonics(system, sym, samples, weights, exponent, speeds, h):
         gk = sym.g @ gk
     full = np.concatenate(parts, axis=0)  # (K, k, n, 2n) over one revolution
     k_full = len(full)
-    phase = 2 * np.pi * np.arange(k_full) / k_full
-    coeff = np.fft.fft(system.to_multiblade(full, phase), axis=0) / k_full  # order o at index o mod K
+    coeff = system.multiblade_spectrum(full)  # order o at index o mod K
     energy = np.einsum("okne,kn->oke", np.abs(coeff) ** 2, weights)
     centre = np.argmax(energy, axis=0)  # (k, 2n)
     signed = np.where(centre > k_full // 2, centre - k_full, centre)
@@ -257,11 +285,12 @@ def solve(
     g = np.kron(np.eye(2), sym.g)
     exponent = np.zeros((n_s, m), complex)
     multiplier = np.zeros((n_s, m), complex)
+    key = np.zeros((n_s, m), complex)
     vector = np.zeros((n_s, m, m), complex)
     out_h = np.zeros((n_s, n, 2 * harmonics + 1, m), complex) if harmonics else None
     steps = np.zeros(n_s, int)
     lifted = np.zeros(n_s, bool)
-    weights = np.abs(np.diagonal(system.multiblade(speeds)[0], axis1=-2, axis2=-1)) if harmonics else None
+    weights = system.kinetic_weights(speeds) if harmonics else None
     moving = np.flatnonzero(speeds > 0)
     still = np.flatnonzero(speeds <= 0)
     if len(still):
@@ -270,6 +299,7 @@ def solve(
         period = sym.angle / speeds[moving].min() if len(moving) else 1.0
         lam, x = np.linalg.eig(state_matrix(*system.matrices(speeds[still], 0.0)))
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)
+        key[still] = _pairing_key(lam, np.full(len(still), period))
         if harmonics:
             q = system.to_multiblade(x[None, :, :n, :], np.zeros(1))[0]
             out_h[still, :, harmonics, :] = q
@@ -285,39 +315,47 @@ def solve(
         full = 2 * (order + harmonics) + 2  # samples over a revolution
         return divisor_at_least(count, max(-(-full // n_sym), 4))
 
+    low, high = (np.zeros(n_s), np.zeros(n_s))
+    if len(moving):
+        low[moving], high[moving] = frozen_real_parts(system, speeds[moving])
+
     def accept(sel, phi, parts, count):
         idx = moving[sel]
         w = speeds[idx]
         dt = sym.angle / w
         rho, vec = np.linalg.eig(g.T @ phi)
         rho, vec = rho.astype(complex), vec.astype(complex)
-        starts = vec[None]
         size = np.log(np.maximum(np.abs(rho), 1e-300))
-        need = np.flatnonzero(size.max(-1) - size.min(-1) > LIFT_SPREAD)
+        lam = size / dt[:, None] + 1j * np.angle(rho) / dt[:, None]
+        # decades spanned over the period: seen in the multipliers (which round-off
+        # caps) or expected from the frozen system, with a margin
+        spread = np.maximum(size.max(-1) - size.min(-1), 1.25 * (high[idx] - low[idx]) * dt + 2.0)
+        need = np.flatnonzero(spread > LIFT_SPREAD)
         samples = None
         if harmonics:  # (speeds that need the lifted problem are redone below)
-            safe = np.where(np.abs(rho) > 1e-300, rho, 1e-300)
-            samples = _periodic_samples(parts, starts, np.log(safe) / dt[:, None], dt / len(parts))
+            samples = _periodic_samples(parts, vec[None], lam, dt / len(parts))
         for j in need:
-            k_parts = int(np.ceil((size[j].max() - size[j].min()) / LIFT_STEP)) + 1
+            k_parts = int(np.ceil(spread[j] / LIFT_STEP)) + 1
             while True:
                 k_parts = divisor_at_least(count, k_parts)
-                step = math.lcm(len(parts), k_parts) if harmonics else k_parts
-                n_parts = next(d for d in range(step, count + 1, step) if count % d == 0)
+                if 2 * k_parts * m > LIFT_SIZE or k_parts >= count:
+                    raise SpeedRangeError(
+                        float(w[j]), f"sees its roots decay over about {spread[j]:.0f} e-folds in one period"
+                    )
+                n_parts = math.lcm(len(parts), k_parts) if harmonics else k_parts
                 fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau)[:, 0]
                 z, at = lifted_eig(_group(fine, k_parts), g)
-                spread = np.log(np.abs(z)).max() - np.log(np.abs(z)).min()
-                if spread <= LIFT_STEP or k_parts >= count or 2 * k_parts * m > LIFT_SIZE:
+                if np.ptp(np.log(np.abs(z))) <= LIFT_STEP:
                     break
                 k_parts = 2 * k_parts
+            lam[j] = k_parts * np.log(z) / dt[j]  # (not from z^K, which may underflow)
             rho[j], vec[j] = z**k_parts, at[0]
             lifted[idx[j]] = True
             if harmonics:
-                lam = k_parts * np.log(z) / dt[j]
-                one = _periodic_samples(fine[:, None], at[:, None], lam[None], dt[j : j + 1] / n_parts)
+                one = _periodic_samples(fine[:, None], at[:, None], lam[j][None], dt[j : j + 1] / n_parts)
                 samples[:, j] = one[:: n_parts // len(parts), 0]  # the batch's sample count
-        lam = np.log(np.where(np.abs(rho) > 1e-300, rho, 1e-300)) / dt[:, None]
         multiplier[idx], vector[idx], steps[idx] = rho, vec, count
+        key[idx] = _pairing_key(lam, dt)
         if harmonics:
             exponent[idx], out_h[idx] = _harmonics(system, sym, samples, weights[idx], lam, w, harmonics)
         else:
@@ -326,7 +364,7 @@ def solve(
     if len(moving):
         integrate(system, speeds[moving], sym.angle, tolerance, scale, tableau, blocks_for, accept)
     orders = np.arange(-harmonics, harmonics + 1)
-    return FloquetSolution(exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted)
+    return FloquetSolution(exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key)
 
 
 def monodromy(system: System, speeds, tolerance=TOLERANCE, scale=STEP_SCALE, tableau=DOP8) -> np.ndarray:

@@ -66,7 +66,7 @@ class Modes:
     labels : list of str
     eigenvalue : complex ndarray (n_s, n_m)
         Representative root with its frequency seen from nonrotating axes,
-        Im >= 0 [1/s].
+        Im >= 0 [1/s]: of two real roots, the less damped.
     real_part : ndarray (n_s, n_m)
         Largest real part of the mode's two roots [1/s].
     frequency_nonrotating, frequency_rotating : ndarray (n_s, n_m)
@@ -121,15 +121,8 @@ class Modes:
 
     @property
     def damping_ratio(self) -> np.ndarray:
-        """-Re(lambda)/|lambda| of the least damped root of each mode [-]."""
-        lam = self.eigenvalue
-        with np.errstate(invalid="ignore", divide="ignore"):
-            return np.where(np.abs(lam) > 0, -lam.real / np.abs(lam), np.nan)
-
-    @property
-    def orders(self) -> np.ndarray:
-        """Alias of ``harmonic_orders`` (the ``harmonic`` coordinate of modes.nc)."""
-        return self.harmonic_orders
+        """Damping ratio of each mode's representative root (:func:`damping_ratio`) [-]."""
+        return damping_ratio(self.eigenvalue)
 
     def successor(self) -> np.ndarray:
         """Label index, at the next speed, of the branch that carries each label: (n_s - 1, n_m).
@@ -143,6 +136,16 @@ class Modes:
         nxt[rows, self.branch[1:]] = np.arange(n_m)
         out = nxt[rows, self.branch[:-1]]
         return np.where(out >= 0, out, nxt[rows, self.partner[:-1]])
+
+
+def damping_ratio(roots, scale=None) -> np.ndarray:
+    """-Re(lambda)/|lambda| [-]; NaN for a root at the origin (below 1e-12 of
+    ``scale``, by default the largest root along the last axis)."""
+    roots = np.asarray(roots)
+    size = np.abs(roots)
+    scale = size.max(-1, keepdims=True) if scale is None else scale
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(size > 1e-12 * np.maximum(scale, 1e-300), -roots.real / size, np.nan)
 
 
 # -- labelling modes ----------------------------------------------------------
@@ -200,6 +203,29 @@ def _order_still(choice, real, share, first, second):
     swap = (share[rows, a] > 0.5) & (share[rows, b] > 0.5) & (real[rows, b] > real[rows, a])
     choice[rows[swap], a[swap]] = second
     choice[rows[swap], b[swap]] = first
+
+
+def _merge_blocks(blocks, block, owned):
+    """Coupling blocks joined where one label stands for coordinates of several
+    (at rest the cyclic lag pair can split between the hub directions)."""
+    where = {int(c): b for b, members in enumerate(blocks) for c in members}
+    parent = list(range(len(blocks)))
+
+    def root(b):
+        while parent[b] != b:
+            b = parent[b]
+        return b
+
+    for coords in owned:
+        first = root(where[coords[0]])
+        for c in coords[1:]:
+            parent[root(where[c])] = first
+    roots = sorted({root(b) for b in range(len(blocks))})
+    if len(roots) == len(blocks):
+        return blocks, block
+    merged = [np.sort(np.concatenate([blocks[b] for b in range(len(blocks)) if root(b) == r])) for r in roots]
+    new_index = np.array([roots.index(root(b)) for b in range(len(blocks))])
+    return merged, new_index[block]
 
 
 def _merge_equal(freq, energy, scale):
@@ -350,6 +376,7 @@ def identify(
     threshold = np.zeros(n_s) if threshold is None else np.asarray(threshold, float)
     if blocks is None:
         blocks, block = [np.arange(n)], np.zeros(n_e, int)
+    blocks, block = _merge_blocks(blocks, block, [own_coordinates(g, pos) for g, pos in owner])
     energy, by_order, still_group = label_content(groups, weights, eigenvalue, harmonics, orders, speeds)
     total = energy.sum(-1, keepdims=True)
     frac = energy / np.where(total > 0, total, 1.0)
@@ -370,11 +397,15 @@ def identify(
         frac_b = frac[:, cols][:, :, mine]
         shapes = np.moveaxis(harmonics[:, :, :, cols] * np.sqrt(weights)[:, :, None, None], -1, 1)
         shapes = shapes.reshape(n_s, len(cols), -1)  # weighted harmonics of each root
-        reps, others = pair_roots(key[:, cols], frac_b, eigenvalue[:, cols].real, still[:, cols], shapes)
+        carry = np.r_[False, speeds[:-1] > 0]
+        reps, others = pair_roots(
+            key[:, cols], frac_b, eigenvalue[:, cols].real, still[:, cols], shapes, carry
+        )
         rows = np.arange(n_s)[:, None]
         score = (frac_b[rows, reps] + frac_b[rows, others]) / 2
         real = np.maximum(eigenvalue[:, cols][rows, reps].real, eigenvalue[:, cols][rows, others].real)
-        choice = _assign(score, real, threshold, np.abs(eigenvalue).max(-1) + 1e-300)
+        # (real parts and Omega: the same for every method, unlike |lambda|)
+        choice = _assign(score, real, threshold, np.abs(eigenvalue.real).max(-1) + speeds + 1e-300)
         for k, g in enumerate(groups):
             if g.kind in ("cyclic", "whirl") and g.coords[0] in members:
                 first = mine.tolist().index(offsets(groups)[k])

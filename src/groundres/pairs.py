@@ -59,7 +59,7 @@ def _pair_one(z, frac, sigma, still, shapes, previous=None):
     both are real, so that a mode's roots do not change partners (and its
     real part jump) from one speed to the next. Returns a list of
     (representative, other): the representative has Im z >= 0, or the larger
-    modulus of two real keys.
+    real part of two real roots (the less damped, whatever the method).
     """
     small = ZERO * np.maximum(np.abs(z), 1e-300)
     upper = np.flatnonzero(z.imag > small)
@@ -102,23 +102,31 @@ def _pair_one(z, frac, sigma, still, shapes, previous=None):
         )
         local = _best_matching(range(len(idx)), cost)
         pairs += [(idx[a], idx[b]) for a, b in local]
-    key = lambda j: (z[j].imag >= 0, abs(z[j]))  # noqa: E731
+    key = lambda j: (z[j].imag >= 0, sigma[j])  # noqa: E731
     return [(a, b) if key(a) >= key(b) else (b, a) for a, b in pairs]
 
 
-def pair_roots(z, frac, sigma, still, shapes):
-    """Representative and other root of every mode at every speed: (n_s, n_e/2) each."""
+def pair_roots(z, frac, sigma, still, shapes, carry=None):
+    """Representative and other root of every mode at every speed: (n_s, n_e/2) each.
+
+    ``carry`` (n_s,) says where the previous speed's pairs of real roots may be
+    kept (not after the rotor at rest, whose degenerate roots pair anyhow).
+    """
     n_s, n_e = z.shape
     half = n_e // 2
     small = ZERO * np.maximum(np.abs(z), 1e-300)
     upper = z.imag > small
-    plain = upper.sum(-1) == half
     reps = np.argsort(~upper, axis=-1, kind="stable")[:, :half]
     partner = np.argmin(np.abs(z[:, :, None] - z[:, None, :].conj()), axis=-1)
     others = np.take_along_axis(partner, reps, -1)
+    # all roots in conjugate pairs, each found once (else the careful way)
+    taken = np.zeros((n_s, n_e), int)
+    np.put_along_axis(taken, others, 1, axis=-1)
+    plain = (upper.sum(-1) == half) & (taken.sum(-1) == half) & ~(taken.astype(bool) & upper).any(-1)
+    carry = np.ones(n_s, bool) if carry is None else carry
     for k in np.flatnonzero(~plain):  # in speed order: real roots keep their partners
         previous = None
-        if k > 0:
+        if k > 0 and carry[k]:
             previous = np.empty(n_e, int)
             previous[reps[k - 1]] = others[k - 1]
             previous[others[k - 1]] = reps[k - 1]

@@ -14,7 +14,7 @@ import numpy as np
 from ._version import __version__
 from .identify import Modes
 from .params import Case
-from .stability import GROWTH_PER_RADIAN, DeutschEntry, Stability
+from .stability import GROWTH_PER_RADIAN, DeutschEntry, Stability, growth_threshold
 
 
 def _num(x):
@@ -89,7 +89,7 @@ class SweepResult:
         inside = (w >= start) & (w <= end)
         if not inside.any():
             inside = np.abs(w - 0.5 * (start + end)) == np.abs(w - 0.5 * (start + end)).min()
-        grows = (self.real_part[inside] > GROWTH_PER_RADIAN * w[inside, None]).any(0)
+        grows = (self.real_part[inside] > growth_threshold(w[inside])[:, None]).any(0)
         if not grows.any():
             grows = self.real_part[inside].max(0) == self.real_part[inside].max()
         return [lab for lab, g in zip(self.labels, grows) if g]
@@ -213,7 +213,7 @@ class SweepResult:
             ),
             "harmonic": (
                 ("harmonic",),
-                np.asarray(self.modes.orders, dtype=np.int32),
+                np.asarray(self.modes.harmonic_orders, dtype=np.int32),
                 {"long_name": "harmonic order m: frequency offset m * rotor speed from the mode's frequency"},
             ),
             "root": (

@@ -122,9 +122,9 @@ class ModeShape:
 
     @property
     def unstable(self) -> bool:
-        from .stability import GROWTH_PER_RADIAN
+        from .stability import growth_threshold
 
-        return self.eigenvalue.real > GROWTH_PER_RADIAN * self.rotor_speed
+        return self.eigenvalue.real > growth_threshold(self.rotor_speed)
 
     @property
     def vector(self) -> np.ndarray:

@@ -1,10 +1,13 @@
 """Stability over a speed sweep: unstable ranges, margins, damping requirements.
 
 A real part counts as positive above ``GROWTH_PER_RADIAN * Omega`` (growth of
-more than one millionth per radian of rotor rotation), so that neutral modes
-of undamped cases and near-repeated eigenvalues do not turn into
-instabilities through round-off. Ends of unstable ranges inside the sweep are
-located by root finding on the largest real part, not by the grid spacing.
+more than one millionth per radian of rotor rotation) plus ``GROWTH_FLOOR``
+(1e-9 1/s, for the rotor at rest), so that neutral modes of undamped cases
+and near-repeated eigenvalues do not turn into instabilities through
+round-off. Ends of unstable ranges inside the sweep are located by root
+finding on the largest real part, not by the grid spacing; between the rotor
+at rest and the first speed that turns, the search stops at half that speed
+(a periodic analysis just above rest is the costliest of the sweep).
 
 Deutsch criterion (Deutsch 1946, "Ground vibrations of helicopters", J. Aero.
 Sci. 13(5); in the form of Johnson 2013, "Rotorcraft Aeromechanics", ch. 17):
@@ -30,11 +33,27 @@ from scipy.optimize import brentq, minimize_scalar
 from .params import Body, Rotor
 
 GROWTH_PER_RADIAN = 1e-6
+#: [1/s] added to the threshold: at rest the neutral roots sit at round-off.
+GROWTH_FLOOR = 1e-9
 
 
 def growth_threshold(speeds):
     """Real part [1/s] above which a root counts as unstable at each speed."""
-    return GROWTH_PER_RADIAN * np.asarray(speeds, dtype=float)
+    return GROWTH_PER_RADIAN * np.asarray(speeds, dtype=float) + GROWTH_FLOOR
+
+
+def _below(speeds, i):
+    """The lower end of a search below grid point i: the previous speed, or half of
+    this one where the previous is the rotor at rest."""
+    return speeds[i - 1] if speeds[i - 1] > 0 else 0.5 * speeds[i]
+
+
+def _crossing(excess, lo, hi, rising):
+    """Where ``excess`` changes sign in [lo, hi]; the end it has already crossed at if none."""
+    a, b = excess(lo), excess(hi)
+    if (a > 0) == (b > 0):
+        return lo if rising else hi
+    return brentq(excess, lo, hi, xtol=1e-12, rtol=1e-8)
 
 
 @dataclass(frozen=True)
@@ -94,7 +113,7 @@ def unstable_ranges(speeds, max_real, max_real_at):
     list of (float, float)
         Interior ends to 1e-8 relative; ranges open at a sweep end report that end.
     """
-    excess = lambda w: max_real_at(w) - GROWTH_PER_RADIAN * w  # noqa: E731
+    excess = lambda w: max_real_at(w) - growth_threshold(w)  # noqa: E731
     positive = max_real > growth_threshold(speeds)
     ranges = []
     i, n = 0, len(speeds)
@@ -105,7 +124,7 @@ def unstable_ranges(speeds, max_real, max_real_at):
         j = i
         while j + 1 < n and positive[j + 1]:
             j += 1
-        start = speeds[0] if i == 0 else brentq(excess, speeds[i - 1], speeds[i], xtol=1e-12, rtol=1e-8)
+        start = speeds[0] if i == 0 else _crossing(excess, _below(speeds, i), speeds[i], rising=True)
         end = speeds[-1] if j == n - 1 else brentq(excess, speeds[j], speeds[j + 1], xtol=1e-12, rtol=1e-8)
         ranges.append((float(start), float(end)))
         i = j + 1
@@ -120,10 +139,11 @@ def assess(speeds, max_real, min_damping, max_real_at, min_damping_at) -> Stabil
     low = _refine_max(lambda w: -min_damping_at(w), speeds, -min_damping, j)
     ranges = unstable_ranges(speeds, max_real, max_real_at)
     peak, at = worst
-    if peak > GROWTH_PER_RADIAN * at and not any(a <= at <= b for a, b in ranges):
+    if peak > growth_threshold(at) and not any(a <= at <= b for a, b in ranges):
         # a range narrower than the grid: the refined peak found it; locate its ends
-        excess = lambda w: max_real_at(w) - GROWTH_PER_RADIAN * w  # noqa: E731
-        lo, hi = speeds[max(i - 1, 0)], speeds[min(i + 1, len(speeds) - 1)]
+        excess = lambda w: max_real_at(w) - growth_threshold(w)  # noqa: E731
+        lo = speeds[i] if i == 0 else _below(speeds, i)
+        hi = speeds[min(i + 1, len(speeds) - 1)]
         start = lo if excess(lo) > 0 else brentq(excess, lo, at, xtol=1e-12, rtol=1e-8)
         end = hi if excess(hi) > 0 else brentq(excess, at, hi, xtol=1e-12, rtol=1e-8)
         ranges = sorted(ranges + [(float(start), float(end))])

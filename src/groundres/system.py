@@ -217,26 +217,39 @@ class System:
             out[..., s, :] = inverse @ q[..., s, :]
         return out
 
-    def nonrotating_harmonics(self, q, phase, max_order):
+    def multiblade_spectrum(self, q):
         """Harmonics of periodic blade-coordinate motion in multiblade coordinates.
 
         Parameters
         ----------
-        q : ndarray (K, n_s, n, m)
-            One period of a periodic displacement p(psi) (e.g. a Floquet mode times
-            exp(-lambda t)) in blade coordinates, at K equally spaced azimuths.
-        phase : ndarray (K,)
-            The azimuths, psi_s = 2 pi s / K.
-        max_order : int
-            Harmonics -max_order..max_order are returned (max_order < K/2).
+        q : ndarray (K, ..., n, m)
+            One revolution of a periodic displacement p(psi) (e.g. a Floquet mode
+            times exp(-lambda t)) in blade coordinates, at the K equally spaced
+            azimuths psi_s = 2 pi s / K of blade 1.
+
+        Returns
+        -------
+        ndarray (K, ..., n, m)
+            Amplitude of each multiblade coordinate at frequency offset
+            o * Omega, order o at index o mod K.
+        """
+        phase = 2 * np.pi * np.arange(len(q)) / len(q)
+        return np.fft.fft(self.to_multiblade(q, phase), axis=0) / len(q)
+
+    def nonrotating_harmonics(self, q, max_order):
+        """Harmonics -max_order..max_order (< K/2) of :meth:`multiblade_spectrum`.
 
         Returns
         -------
         harmonics : ndarray (n_s, n, 2 max_order + 1, m)
-            Amplitude of each multiblade coordinate at frequency offset order * Omega.
+            For q of shape (K, n_s, n, m): amplitude of each multiblade
+            coordinate at frequency offset order * Omega.
         orders : ndarray (2 max_order + 1,)
         """
-        p = self.to_multiblade(q, phase)
         orders = np.arange(-max_order, max_order + 1)
-        kernel = np.exp(-1j * np.outer(orders, phase)) / len(phase)  # (M, K)
-        return np.einsum("mk,ksnj->snmj", kernel, p), orders
+        coeff = self.multiblade_spectrum(q)[orders % len(q)]  # (M, n_s, n, m)
+        return np.moveaxis(coeff, 0, 2), orders
+
+    def kinetic_weights(self, speeds) -> np.ndarray:
+        """Kinetic weight of each multiblade coordinate (mass-matrix diagonal), (n_s, n)."""
+        return np.abs(np.diagonal(self.multiblade(np.asarray(speeds, dtype=float))[0], axis1=-2, axis2=-1))

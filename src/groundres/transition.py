@@ -134,6 +134,27 @@ def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
 GRID_CACHE_SIZE = 4_000_000
 
 
+def frozen_real_parts(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarray]:
+    """Smallest and largest real part [1/s] of the frozen system at a few azimuths.
+
+    The roots of the equations with the azimuth held fixed bound those of the
+    periodic system roughly (a blade without damper keeps its neutral root, the
+    others their damping), which the lifted Floquet problem needs before it has
+    any root.
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
+    fa, fb, fc = node_matrices(system, psi)
+    inv = 1.0 / speeds
+    f = fa[:, None] + fb[:, None] * inv[:, None, None] + fc[:, None] * (inv**2)[:, None, None]
+    n = f.shape[-2]
+    a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
+    a[..., :n, n:] = np.eye(n)
+    a[..., n:, :] = f
+    real = np.linalg.eigvals(a).real * speeds[:, None]  # per radian -> 1/s
+    return real.min(-1).min(0), real.max(-1).max(0)
+
+
 def grid_matrices(
     system: System, angle: float, steps: int, tableau=DOP8, first: int = 0, last: int | None = None
 ):
@@ -266,7 +287,7 @@ def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1
     def task(item):
         w, (b0, b1) = item
         inv = 1.0 / w
-        if b1 - b0 > 1 or per <= room:
+        if per <= room:
             nodes = grid_matrices(system, angle, steps, tableau, b0 * per, b1 * per)
             props = _step_propagators(*nodes, inv, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
             return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))

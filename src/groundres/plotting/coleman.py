@@ -79,6 +79,8 @@ def _covered(values, tol, other=None):
 def _draw(ax, xs, ys, covered, style, colour, label=None):
     """A polyline; its stretches on a line drawn before it are dashed, so both show."""
     if len(xs) < 2:
+        if len(xs) == 1:  # a single speed
+            ax.plot(xs, ys, linestyle="", marker=".", color=colour, label=label)
         return
     covered = np.asarray(covered, bool)
     on = covered[:-1] & covered[1:]  # per segment
@@ -97,33 +99,43 @@ def _draw(ax, xs, ys, covered, style, colour, label=None):
             start = k
 
 
-def _segments(x, y, succ, exchange, label, jump=None):
+def _segments(x, y, succ, exchange, label, moved=None):
     """Pieces of one label's line: (xs, ys, grid index of each vertex or -1) in order.
 
     Between speeds where the label stays on its branch the piece is the
-    label's own; where it moves to another branch the piece follows the
-    branch it leaves up to half-way (and a separate piece the branch it joins
-    from half-way), unless ``jump`` says that branch's values jump there.
-    Where the label's own values jump (``jump``: to another harmonic) the
-    line stops and starts again: no line is drawn across a jump.
+    label's own. Where it moves to another branch (an exchange) the piece
+    follows the branch it leaves up to half-way, and a separate piece the
+    branch it joins from half-way, where that is smoother than the label's
+    own step (at a veering it is; where the label's content sits at another
+    harmonic on the other branch it is not, and the label's own line is
+    drawn). Where ``moved`` (n_s, n_m) flags that the label's frequency moved
+    to another harmonic the line stops and starts again: no line is drawn
+    across a jump.
     """
     n_s = len(x)
     pieces, marks = [], []
     xs, ys, at = [x[0]], [y[0, label]], [0]  # at: grid index of each vertex (-1 half-way)
+
+    def restart(s):
+        nonlocal xs, ys, at
+        pieces.append((xs, ys, at))
+        xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
+
     for s in range(n_s - 1):
+        own = abs(y[s + 1, label] - y[s, label])
+        if moved is not None and moved[s + 1, label]:  # another harmonic: a gap, a marker after it
+            if exchange[s + 1, label]:
+                marks.append((x[s + 1], y[s + 1, label]))
+            restart(s)
+            continue
         if not exchange[s + 1, label]:
-            if jump is not None and jump(s, label, label):  # moved harmonic: a gap, no line across
-                pieces.append((xs, ys, at))
-                xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
-                continue
             xs.append(x[s + 1])
             ys.append(y[s + 1, label])
             at.append(s + 1)
             continue
         out = succ[s, label] if succ[s, label] >= 0 else label
         mid_x = 0.5 * (x[s] + x[s + 1])
-        along = jump is None or not jump(s, label, out)
-        if along:
+        if abs(y[s + 1, out] - y[s, label]) <= own:  # along the branches, colour changes half-way
             xs.append(mid_x)
             ys.append(0.5 * (y[s, label] + y[s + 1, out]))
             at.append(-1)
@@ -133,19 +145,13 @@ def _segments(x, y, succ, exchange, label, jump=None):
             # now becomes a mode of its own, e.g. two real roots turning into
             # a conjugate pair, starts here)
             into = np.flatnonzero(succ[s] == label)
-            if len(into) and not (jump is not None and jump(s, int(into[0]), label)):
+            if len(into) and abs(y[s + 1, label] - y[s, int(into[0])]) <= own:
                 src = int(into[0])
                 xs, ys = [mid_x, x[s + 1]], [0.5 * (y[s, src] + y[s + 1, label]), y[s + 1, label]]
                 at = [-1, s + 1]
             else:
                 xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
-        elif jump(s, label, label):
-            # the label's own values jump as well (to another harmonic): no
-            # line across the gap, a marker where the line goes on
-            marks.append((x[s + 1], y[s + 1, label]))
-            pieces.append((xs, ys, at))
-            xs, ys, at = [x[s + 1]], [y[s + 1, label]], [s + 1]
-        else:
+        else:  # the label's own line, marked
             marks.append((mid_x, 0.5 * (y[s, label] + y[s + 1, label])))
             xs.append(x[s + 1])
             ys.append(y[s + 1, label])
@@ -154,7 +160,7 @@ def _segments(x, y, succ, exchange, label, jump=None):
     return pieces, marks
 
 
-def _roots(ax, x, values, labels, styles, colours):
+def _roots(ax, x, values, labels, styles, colours, scale):
     """Each tracked root's line, coloured by the label of its mode at each speed.
 
     values, labels : (n_s, n_e). Where a root's label changes the line turns
@@ -162,8 +168,7 @@ def _roots(ax, x, values, labels, styles, colours):
     """
     marks = []
     n_s, n_e = values.shape
-    finite = values[np.isfinite(values)]
-    covered = _covered(values, 0.004 * max(np.ptp(finite) if finite.size else 0.0, 1e-12), labels)
+    covered = _covered(values, 0.004 * max(scale, 1e-12), labels)
     for c in range(n_e):
         y, lab = values[:, c], labels[:, c]
         start = 0
@@ -231,32 +236,28 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     harmonic = (
         result.modes.harmonic_change if result.frame == "nonrotating" else modes.harmonic_change_rotating
     )
-    per_rev = w  # a harmonic is Omega, in plot units
-
-    def freq_jump(s, label, out):
-        return abs(freq[s + 1, out] - freq[s, label]) > 0.25 * per_rev[s + 1]
 
     colours = [label_colour(label, i) for i, label in enumerate(result.labels)]
     styles = [_style(label) for label in result.labels]
     marks_f, marks_d = [], []
     top_f = max(np.nanmax(freq) if np.isfinite(freq).any() else 0.0, 1e-12)
-    by_label = [(ax_f, freq, freq_jump, 0.004 * top_f, marks_f)]
+    by_label = [(ax_f, freq, harmonic, 0.004 * top_f, marks_f)]
     if show_damping_ratio:
         by_label.append((ax_d, lower, None, 0.004 * max(span, 1e-12), marks_d))
     mostly_covered = np.zeros(len(result.labels), bool)
-    for ax, values, jump, tol, marks_out in by_label:
+    for ax, values, moved, tol, marks_out in by_label:
         covered = _covered(np.nan_to_num(values), tol)
         if ax is ax_f:
             mostly_covered = covered.mean(0) > 0.5
         for i in range(len(result.labels)):
-            pieces, marks = _segments(w, values, succ, exchange, i, jump)
+            pieces, marks = _segments(w, values, succ, exchange, i, moved)
             for xs, ys, at in pieces:
                 _draw(ax, xs, ys, [covered[a, i] if a >= 0 else False for a in at], styles[i], colours[i])
             marks_out.extend(marks)
     if not show_damping_ratio:  # every root: continuous, coloured by its mode's label
-        for ax in (ax_d, ax_z):
+        for ax, scale in ((ax_d, span), (ax_z, 3.6 * bump)):
             if ax is not None:
-                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours)
+                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours, scale)
                 marks_d += marks if ax is ax_d else []
     for i in np.flatnonzero(grows.any(0)):  # the growing stretches, highlighted
         ax_f.plot(w, np.where(grows[:, i], freq[:, i], np.nan), "-", color=colours[i], lw=4.0, alpha=0.5)
@@ -293,7 +294,10 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         ax_z.set_ylabel("near zero [1/s]")
     top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
     ax_f.set_ylim(0, 1.05 * top)
-    ax_f.set_xlim(w[0], w[-1])
+    if w[-1] > w[0]:
+        ax_f.set_xlim(w[0], w[-1])
+    else:  # a single speed
+        ax_f.set_xlim(0.95 * w[0] - 1e-3, 1.05 * w[0] + 1e-3)
     frame = "nonrotating" if result.frame == "nonrotating" else "rotating"
     ax_f.set_ylabel(
         f"modal frequency, {frame} frame / reference [-]"
