@@ -260,33 +260,24 @@ class SweepResult:
                 self.modes.participation,
                 {"units": "1", "long_name": "share of each harmonic in the mode, nonrotating frame"},
             ),
-            "exchange": (
+            "exchange": _flag(
                 both,
-                self.modes.exchange.astype(np.int8),
-                {
-                    "long_name": "the label moved to another branch since the previous speed (veering)",
-                    "flag_values": np.array([0, 1], np.int8),
-                    "flag_meanings": "same_branch exchanged",
-                },
+                self.modes.exchange,
+                "the label moved to another branch since the previous speed (veering)",
+                "same_branch exchanged",
             ),
-            "harmonic_change": (
+            "harmonic_change": _flag(
                 both,
-                self.modes.harmonic_change.astype(np.int8),
-                {
-                    "long_name": "the nonrotating frequency moved to another harmonic of its root since "
-                    "the previous speed (that harmonic holds clearly more of the label's content)",
-                    "flag_values": np.array([0, 1], np.int8),
-                    "flag_meanings": "continuous moved",
-                },
+                self.modes.harmonic_change,
+                "the nonrotating frequency moved to another harmonic of its root since "
+                "the previous speed (that harmonic holds clearly more of the label's content)",
+                "continuous moved",
             ),
-            "harmonic_change_rotating": (
+            "harmonic_change_rotating": _flag(
                 both,
-                self.modes.harmonic_change_rotating.astype(np.int8),
-                {
-                    "long_name": "the same for the rotating-frame frequency",
-                    "flag_values": np.array([0, 1], np.int8),
-                    "flag_meanings": "continuous moved",
-                },
+                self.modes.harmonic_change_rotating,
+                "the same for the rotating-frame frequency",
+                "continuous moved",
             ),
             "root_mode": (
                 ("speed", "root"),
@@ -298,15 +289,7 @@ class SweepResult:
                 self.modes.root_real_part,
                 {"units": "1/s", "long_name": "real part of the root"},
             ),
-            "unstable": (
-                ("speed",),
-                unstable,
-                {
-                    "long_name": "speed lies in an unstable range",
-                    "flag_values": np.array([0, 1], np.int8),
-                    "flag_meanings": "stable unstable",
-                },
-            ),
+            "unstable": _flag(("speed",), unstable, "speed lies in an unstable range", "stable unstable"),
         }
         attrs = {
             "title": self.case.title,
@@ -329,6 +312,15 @@ class SweepResult:
         from .plotting.coleman import coleman_diagram
 
         return coleman_diagram(self, **kwargs)
+
+
+def _flag(dims, values, long_name, meanings):
+    """A 0/1 variable of the data set, with CF flag attributes."""
+    return (
+        dims,
+        np.asarray(values).astype(np.int8),
+        {"long_name": long_name, "flag_values": np.array([0, 1], np.int8), "flag_meanings": meanings},
+    )
 
 
 def _deutsch_entry(e: DeutschEntry) -> dict:

@@ -116,8 +116,8 @@ def node_matrices(system: System, psi) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return sol[..., :n2], sol[..., n2 : 2 * n2], sol[..., 2 * n2 :]
 
 
-def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
-    """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
+def frozen_roots(system: System, speeds, probes=2) -> np.ndarray:
+    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n)."""
     speeds = np.asarray(speeds, dtype=float)
     psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
     fa, fb, fc = node_matrices(system, psi)
@@ -127,11 +127,12 @@ def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
     a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
     a[..., n:, :] = f
-    return np.abs(np.linalg.eigvals(a)).max(-1).max(0)
+    return np.linalg.eigvals(a)
 
 
-#: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
-GRID_CACHE_SIZE = 4_000_000
+def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
+    """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
+    return np.abs(frozen_roots(system, speeds, probes)).max(-1).max(0)
 
 
 def frozen_real_parts(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarray]:
@@ -142,17 +143,12 @@ def frozen_real_parts(system: System, speeds, probes=4) -> tuple[np.ndarray, np.
     others their damping), which the lifted Floquet problem needs before it has
     any root.
     """
-    speeds = np.asarray(speeds, dtype=float)
-    psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
-    fa, fb, fc = node_matrices(system, psi)
-    inv = 1.0 / speeds
-    f = fa[:, None] + fb[:, None] * inv[:, None, None] + fc[:, None] * (inv**2)[:, None, None]
-    n = f.shape[-2]
-    a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
-    a[..., :n, n:] = np.eye(n)
-    a[..., n:, :] = f
-    real = np.linalg.eigvals(a).real * speeds[:, None]  # per radian -> 1/s
+    real = frozen_roots(system, speeds, probes).real * np.asarray(speeds, dtype=float)[:, None]  # -> 1/s
     return real.min(-1).min(0), real.max(-1).max(0)
+
+
+#: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
+GRID_CACHE_SIZE = 4_000_000
 
 
 def grid_matrices(
