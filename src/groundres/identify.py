@@ -156,7 +156,7 @@ def _assign(score, real_part, threshold, size):
 
     score : (n_s, n_m, n_l) content fraction of each mode in each label;
     real_part : (n_s, n_m); threshold : (n_s,) growth threshold; size : (n_s,)
-    the largest root there (real parts are compared relative to it).
+    the scale real parts are compared on (the same for every method).
     Returns choice (n_s, n_m): label index of each mode.
 
     A mode keeps its previous label (within the margin) when one mode of the
