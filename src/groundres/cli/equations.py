@@ -1,0 +1,60 @@
+"""`groundres equations`: print the derived matrices."""
+
+from __future__ import annotations
+
+import click
+
+from .common import load
+
+
+@click.command("equations")
+@click.argument("case", required=False)
+@click.option("--latex", is_flag=True, help="Print LaTeX instead of text.")
+@click.option(
+    "--form",
+    type=click.Choice(["auto", "blade", "multiblade"]),
+    default="auto",
+    help="Blade coordinates (periodic) or multiblade coordinates (identical blades).",
+)
+def command(case, latex, form):
+    """Print the mass, damping and stiffness matrices derived for CASE.
+
+    Blade-coordinate form: the contribution of blade k at azimuth psi_k (body
+    dofs, lag, flap). Multiblade form (identical blades): the exact
+    time-invariant matrices, rows premultiplied by T' (cyclic rows are N/2
+    times the averaged equations).
+    """
+    import sympy as sp
+
+    from ..symbolic.codegen import blade_equations
+    from ..symbolic.derive import LOCAL_DOFS
+    from ..symbolic.multiblade import multiblade_equations
+
+    the_case = load(case)
+    eq = blade_equations()
+    rotor, body = the_case.rotor, the_case.body
+    if form == "auto":
+        form = "multiblade" if rotor.identical and rotor.n_blades >= 3 else "blade"
+    show = sp.latex if latex else (lambda m: sp.pretty(m, wrap_line=False, use_unicode=True))
+    click.echo(f"# {the_case.title}")
+    if form == "multiblade":
+        names, *mats = multiblade_equations(eq, rotor.n_blades, body.dofs, rotor.flap)
+        click.echo(f"# multiblade coordinates q = [{', '.join(names)}];  M q'' + C q' + K q = 0")
+        click.echo("# symbols: m, S, I blade mass, static moment, inertia; e hinge offset; h hub height;")
+        click.echo(
+            "#   K_zeta, C_zeta lag spring, damper; K_beta, C_beta flap;"
+            " M_, J_, K_, C_ body; Omega rotor speed"
+        )
+    else:
+        kinds = ("lag", "flap") if rotor.flap else ("lag",)
+        keep = [LOCAL_DOFS.index(d) for d in body.dofs] + [LOCAL_DOFS.index(k) for k in kinds]
+        names = list(body.dofs) + [f"{k}_k" for k in kinds]
+        blade_mats = eq.at_azimuth(sp.Symbol("psi_k"))
+        mats = [m.extract(keep, keep) for m in blade_mats]
+        click.echo(
+            f"# contribution of blade k (azimuth psi_k) to q = [{', '.join(names)}];  add the body's own"
+        )
+        click.echo("# diagonal M_, C_, K_ on the body rows; sum over the blades for the body rows")
+    for title, mat in zip(("mass", "damping", "stiffness"), mats):
+        click.echo(f"\n{title} matrix:")
+        click.echo(show(mat))

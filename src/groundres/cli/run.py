@@ -1,0 +1,167 @@
+"""`groundres run`: analyse a case over its sweep and write its results."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from .common import DEFAULT_CASE, OUT, first_run, fmt_speed, load, make_console, output_dir, status
+
+
+@click.command("run")
+@click.argument("case", required=False)
+@OUT
+@click.option(
+    "--frame",
+    type=click.Choice(["nonrotating", "rotating"]),
+    default=None,
+    help="Frame of the reported frequencies (overrides the case).",
+)
+@click.option(
+    "--method",
+    type=click.Choice(["auto", "eigen", "floquet"]),
+    default=None,
+    help="Analysis method (overrides the case).",
+)
+@click.option("--damping-ratio", is_flag=True, help="Plot damping ratio instead of real part.")
+def command(case, out, frame, method, damping_ratio):
+    """Analyse CASE (a TOML file or a shipped case name) over its speed sweep.
+
+    Writes summary.json, modes.csv, modes.nc and coleman.png into --out. With
+    no CASE, runs the built-in default, the shipped case 'hammond-undamped'.
+    """
+    console = make_console()
+    if case is None:
+        console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
+    the_case = load(case)
+    out_dir = output_dir(case, out)
+    pool = _picture_process()
+    try:
+        from ..analysis import analyze
+
+        label = (
+            "Deriving the equations of motion (first run only), then analysing"
+            if first_run()
+            else "Analysing"
+        )
+        with status(console, f"{label} {the_case.title}..."):
+            result = analyze(the_case, frame=frame, method=method)
+        with status(console, "Writing results..."):
+            _write_all(result, out_dir, damping_ratio, pool)
+    finally:
+        pool.shutdown(cancel_futures=True)
+    _print_result(console, result, out_dir)
+
+
+def _warm_plotting() -> None:
+    """Import the plotting stack (runs in the picture process while the analysis runs)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+
+    from ..plotting import coleman  # noqa: F401
+
+
+def _render_coleman(result, path: Path, damping_ratio: bool) -> None:
+    from .. import io
+
+    io.write_figure(result.plot(show_damping_ratio=damping_ratio), path)
+
+
+def _picture_process():
+    """A one-worker pool that starts importing matplotlib at once."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    context = multiprocessing.get_context("fork") if sys.platform.startswith("linux") else None
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+    pool.submit(_warm_plotting)
+    return pool
+
+
+def _write_all(result, out_dir: Path, damping_ratio: bool, pool=None):
+    """Write the four outputs; the picture renders in the picture process meanwhile."""
+    from .. import io
+
+    picture = pool.submit(_render_coleman, result, out_dir / "coleman.png", damping_ratio) if pool else None
+    io.write_summary(result, out_dir / "summary.json")
+    io.write_modes_csv(result, out_dir / "modes.csv")
+    io.write_modes_netcdf(result, out_dir / "modes.nc")
+    if picture is None:
+        _render_coleman(result, out_dir / "coleman.png", damping_ratio)
+    else:
+        picture.result()
+
+
+def _print_result(console, result, out_dir):
+    from rich.table import Table
+
+    summary = result.summary()
+    sweep = result.case.sweep
+    console.print(
+        f"[bold]{result.case.title}[/bold]  ({summary['method']}, frequencies in the {result.frame} frame)"
+    )
+    if summary["stable"]:
+        console.print(
+            "[green]Stable[/green] over the whole sweep "
+            f"{fmt_speed(result.rotor_speed[0], sweep)} to {fmt_speed(result.rotor_speed[-1], sweep)}."
+        )
+    else:
+        table = Table(title="Unstable rotor-speed ranges", title_justify="left")
+        for col in ("from", "to", "modes"):
+            table.add_column(col)
+        for r in summary["unstable_ranges"]:
+            table.add_row(fmt_speed(r["start"], sweep), fmt_speed(r["end"], sweep), ", ".join(r["modes"]))
+        console.print(table)
+    mr, md = summary["max_real_part"], summary["min_damping_ratio"]
+    console.print(
+        f"Largest real part {mr['value']:.4g} 1/s ({mr['mode']}) at {fmt_speed(mr['speed'], sweep)}; "
+        f"smallest damping ratio {md['value']:.4g} ({md['mode']}) at {fmt_speed(md['speed'], sweep)}."
+    )
+    lag = summary["lag_damping"]
+    table = Table(
+        title="Lag damping [N m s/rad] by the Deutsch criterion, per body mode", title_justify="left"
+    )
+    for col in ("body", "form", "omega_b [rad/s]", "tuning speed", "nu", "needs", "installed", "ok"):
+        table.add_column(col)
+    for e in lag["deutsch"]:
+        need = e["required_lag_damping"]
+        need_text = (
+            "none (no coalescence)"
+            if need is None
+            else ("infinite (body undamped)" if need == "infinite" else f"{need:.5g}")
+        )
+        ok = {True: "[green]yes[/green]", False: "[red]no[/red]", None: "-"}[e["satisfied"]]
+        table.add_row(
+            e["body_mode"],
+            e["form"],
+            f"{e['body_frequency']:.4g}",
+            "-" if e["tuning_speed"] is None else fmt_speed(e["tuning_speed"], sweep),
+            "-" if e["lag_frequency_per_rev"] is None else f"{e['lag_frequency_per_rev']:.4g}",
+            need_text,
+            f"{e['installed_lag_damping']:.5g}",
+            ok,
+        )
+    console.print(table)
+    if not result.case.rotor.identical:
+        console.print(
+            "Blades differ: the Deutsch rows use the rotor's average blade (smeared damper), "
+            "which can miss what a failed damper does; the exact value below governs."
+        )
+    exact = lag["exact_minimum"]
+    which = "every blade" if result.case.rotor.identical else "every working damper"
+    if exact is None:
+        console.print(
+            f"Exact minimum lag damping (on {which}): none, up to a large multiple of the installed "
+            "damper, makes the sweep stable with the installed body damping."
+        )
+    else:
+        console.print(
+            f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad "
+            f"(installed {lag['installed']:.5g})."
+        )
+    console.print(f"Wrote {out_dir}/summary.json, modes.csv, modes.nc, coleman.png")
