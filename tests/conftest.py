@@ -1,13 +1,13 @@
-"""Shared fixtures: a private cache for generated code, and small cases."""
+"""Shared fixtures: small cases.
+
+The blade equations are package code (groundres/symbolic/generated_*.py);
+tests/test_codegen.py derives them afresh and checks the committed modules.
+"""
 
 import os
-import tempfile
 
 import pytest
 
-# Every test session derives the equations afresh into its own cache, so the
-# derivation itself is exercised by the suite.
-os.environ.setdefault("GROUNDRES_CACHE_DIR", tempfile.mkdtemp(prefix="groundres-cache-"))
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 from groundres import Blade, Body, Case, Rotor, Sweep  # noqa: E402

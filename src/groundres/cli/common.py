@@ -68,12 +68,6 @@ def status(console, text):
     return contextlib.nullcontext()
 
 
-def first_run() -> bool:
-    from ..symbolic import codegen
-
-    return not codegen._paths()[0].exists()
-
-
 def fmt_speed(w, sweep):
     """A speed [rad/s] in the case's unit, with its ratio to the reference."""
     from ..params import SPEED_UNITS

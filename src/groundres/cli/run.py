@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from .common import DEFAULT_CASE, OUT, first_run, fmt_speed, load, make_console, output_dir, status
+from .common import DEFAULT_CASE, OUT, fmt_speed, load, make_console, output_dir, status
 
 
 @click.command("run")
@@ -41,12 +41,7 @@ def command(case, out, frame, method, damping_ratio):
     try:
         from ..analysis import analyze
 
-        label = (
-            "Deriving the equations of motion (first run only), then analysing"
-            if first_run()
-            else "Analysing"
-        )
-        with status(console, f"{label} {the_case.title}..."):
+        with status(console, f"Analysing {the_case.title}..."):
             result = analyze(the_case, frame=frame, method=method)
         with status(console, "Writing results..."):
             _write_all(result, out_dir, damping_ratio, pool)
