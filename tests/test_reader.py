@@ -260,6 +260,7 @@ def test_phasors_files_are_strict_and_speak_units(tmp_path):
     assert result.exit_code == 0, result.output
     assert max(len(line) for line in result.output.splitlines()) <= WIDTH
     assert "cycles/min" in result.output  # the whirl in the case's unit
+    assert "ref: rotor speed / the case's reference speed" in " ".join(result.output.split())
     report_ = no_bare_constants((out / "phasors.json").read_text())
     nulls_have_reasons(report_)
     entry = report_["body x"]

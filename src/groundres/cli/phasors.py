@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import click
 
-from .common import OUT, case_at_speed, fail_user, fmt_frequency, make_console, output_dir, plain, status
+from .common import (
+    OUT,
+    case_at_speed,
+    fail_user,
+    fmt_frequency,
+    make_console,
+    output_dir,
+    plain,
+    ref_note,
+    status,
+)
 
 
 @click.command("phasors")
@@ -84,6 +94,8 @@ def command(case, speed, labels, gif, out):
             f"{plain(label)}: {state}, rates lead displacements by {lead:.2f} deg; rotor centre of mass "
             f"whirls {com['direction']} at {fmt_frequency(com['frequency'], the_case.sweep)}"
         )
+    if ref_note(the_case.sweep):
+        console.print(plain(ref_note(the_case.sweep)))
     gifs = ", mode_*.gif" if gif else ""
     console.print(f"Wrote {plain(out_dir)}/phasors_*.png{gifs}, phasors.csv, phasors.json")
 
