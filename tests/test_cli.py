@@ -134,7 +134,7 @@ def test_run_writes_the_four_outputs(tmp_path):
     assert summary["method"] == "multiblade-eigen" and summary["speed_unit"] == "rad/s"
     assert set(summary["max_real_part"]) >= {"value", "speed"}
     header = (out / "modes.csv").read_text().splitlines()[0]
-    assert header == "speed,mode,frequency,real_part,damping_ratio"
+    assert header == "speed [rad/s],mode,frequency [rad/s],real_part [1/s],damping_ratio [-]"
     assert len((out / "modes.csv").read_text().splitlines()) == 1 + 60 * 6
     ds = xr.open_dataset(out / "modes.nc")
     assert ds["frequency"].dims == ("speed", "mode") and ds.sizes["speed"] == 60

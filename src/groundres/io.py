@@ -1,9 +1,13 @@
 """Result files, each written atomically (a temporary file renamed into place).
 
-* ``summary.json``: see docs/case-files.md;
-* ``modes.csv``: one row per (speed, mode): speed [rad/s], mode, frequency
-  [rad/s] (in the result's frame), real_part [1/s], damping_ratio [-];
-* ``modes.nc``: the same as a NetCDF-4 data set with dims ``speed``, ``mode``.
+* ``summary.json``: see docs/case-files.md; strict JSON (no NaN or Infinity
+  tokens: a number that is not finite is written as null, with a
+  ``<name>_reason`` beside it);
+* ``modes.csv``: one row per (speed, mode), the unit in each header:
+  ``speed [rad/s]``, ``mode``, ``frequency [rad/s]`` (in the result's frame),
+  ``real_part [1/s]``, ``damping_ratio [-]``;
+* ``modes.nc``: the same as a NetCDF-4 data set (CF conventions) with dims
+  ``speed``, ``mode`` (see :mod:`groundres.dataset`).
 """
 
 from __future__ import annotations
@@ -48,23 +52,64 @@ def write_text(path: str | Path, text: str) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
+def strict(obj):
+    """``obj`` with every NaN or infinity replaced by None.
+
+    In a dict, a replaced value gets a ``<key>_reason`` beside it (unless one
+    is there already) saying which value it was.
+    """
+    if isinstance(obj, dict):
+        out = {}
+        for key, value in obj.items():
+            clean = strict(value)
+            out[key] = clean
+            if clean is None and _not_finite(value) and f"{key}_reason" not in obj:
+                out[f"{key}_reason"] = f"not a finite number ({float(value)!r})"
+        return out
+    if isinstance(obj, (list, tuple)):
+        return [strict(v) for v in obj]
+    if _not_finite(obj):
+        return None
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def _not_finite(value) -> bool:
+    return isinstance(value, (float, np.floating)) and not np.isfinite(value)
+
+
+def json_text(obj) -> str:
+    """Strict JSON (RFC 8259: no NaN or Infinity tokens), indented, see :func:`strict`."""
+    return json.dumps(strict(obj), indent=2, allow_nan=False) + "\n"
+
+
+def write_json(path: str | Path, obj) -> None:
+    """Write ``obj`` as strict JSON atomically."""
+    write_text(path, json_text(obj))
+
+
 def write_summary(result, path: str | Path) -> None:
-    write_text(path, json.dumps(result.summary(), indent=2) + "\n")
+    write_json(path, result.summary())
 
 
 def csv_text(header, rows) -> str:
-    """CSV text; floats with ten significant digits."""
+    """CSV text; floats with ten significant digits (-0 written as 0)."""
     buf = _io.StringIO()
     out = csv.writer(buf, lineterminator="\n")
     out.writerow(header)
     for row in rows:
-        out.writerow([f"{v:.10g}" if isinstance(v, (float, np.floating)) else v for v in row])
+        out.writerow([f"{float(v) + 0.0:.10g}" if isinstance(v, (float, np.floating)) else v for v in row])
     return buf.getvalue()
 
 
 def write_csv(path: str | Path, header, rows) -> None:
     """Write rows as CSV atomically."""
     write_text(path, csv_text(header, rows))
+
+
+#: modes.csv columns, each numeric one with its unit.
+MODES_CSV_HEADER = ["speed [rad/s]", "mode", "frequency [rad/s]", "real_part [1/s]", "damping_ratio [-]"]
 
 
 def write_modes_csv(result, path: str | Path) -> None:
@@ -75,7 +120,7 @@ def write_modes_csv(result, path: str | Path) -> None:
         for i, w in enumerate(result.rotor_speed)
         for j, label in enumerate(result.labels)
     )
-    write_csv(path, ["speed", "mode", "frequency", "real_part", "damping_ratio"], rows)
+    write_csv(path, MODES_CSV_HEADER, rows)
 
 
 def write_modes_netcdf(result, path: str | Path) -> None:
@@ -87,11 +132,15 @@ def write_modes_netcdf(result, path: str | Path) -> None:
     import netCDF4
 
     coords, variables, attrs = result.dataset()
+    every = {**coords, **variables}
+    sizes = {}
+    for dims, values, _ in every.values():
+        sizes.update(zip(dims, np.shape(values)))
     with atomic_path(path) as tmp:
         with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
-            for name, (_, values, _) in coords.items():
-                nc.createDimension(name, len(values))
-            for name, (dims, values, var_attrs) in {**coords, **variables}.items():
+            for name, size in sizes.items():
+                nc.createDimension(name, size)  # size 0 (no unstable range): unlimited
+            for name, (dims, values, var_attrs) in every.items():
                 dtype = str if values.dtype == object else values.dtype
                 var = nc.createVariable(name, dtype, dims)
                 if dtype is str:

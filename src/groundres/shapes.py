@@ -62,10 +62,18 @@ class Phasor:
         """Part of the rate 90 degrees ahead of the displacement, as a fraction of |rate|."""
         return float(np.sin(np.radians(self.rate_lead)))
 
+    @property
+    def unit(self) -> str:
+        """Unit of the displacement: "m" for body translations, "rad" for angles."""
+        return "m" if self.kind == "body" and self.name in ("x", "y", "x_r", "y_r") else "rad"
+
     def as_dict(self) -> dict:
+        """The phasor as numbers (phases [deg]; NaN where the displacement is zero);
+        :data:`PHASOR_UNITS` gives the unit of each entry."""
         return {
             "coordinate": self.name,
             "kind": self.kind,
+            "unit": self.unit,
             "displacement_amplitude": float(abs(self.displacement)),
             "displacement_phase_deg": float(np.degrees(np.angle(self.displacement))),
             "rate_amplitude": float(abs(self.rate)),
@@ -74,6 +82,24 @@ class Phasor:
             "rate_quadrature_fraction": self.quadrature,
             "rate_in_phase_fraction": self.in_phase,
         }
+
+
+#: Unit of each numeric entry of :meth:`Phasor.as_dict` (displacements in the
+#: coordinate's ``unit``, scaled so that the reference coordinate's is 1).
+PHASOR_UNITS = {
+    "displacement_amplitude": "m or rad",
+    "displacement_phase_deg": "deg",
+    "rate_amplitude": "m/s or rad/s",
+    "rate_phase_deg": "deg",
+    "rate_lead_deg": "deg",
+    "rate_quadrature_fraction": "-",
+    "rate_in_phase_fraction": "-",
+}
+
+
+def phasor_header(keys) -> list[str]:
+    """CSV column names with their units, e.g. ``rate_lead_deg [deg]``."""
+    return [f"{k} [{PHASOR_UNITS[k]}]" if k in PHASOR_UNITS else k for k in keys]
 
 
 @dataclass
@@ -125,6 +151,13 @@ class ModeShape:
         from .stability import growth_threshold
 
         return self.eigenvalue.real > growth_threshold(self.rotor_speed)
+
+    @property
+    def neutral(self) -> bool:
+        """Real part within the growth threshold of zero (round-off: neither grows nor decays)."""
+        from .stability import growth_threshold
+
+        return abs(self.eigenvalue.real) <= growth_threshold(self.rotor_speed)
 
     @property
     def vector(self) -> np.ndarray:
@@ -215,7 +248,7 @@ class ModeShape:
         rotor, and a backward whirl (a - i b)/2. The rotor's centre of mass is
         the hub's displacement plus the shift the lag motion gives it,
         (S/(2m)) (lag_1s, -lag_1c); it whirls forward when its forward part is
-        the larger.
+        the larger. Its ``frequency`` is in rad/s (``frequency_unit``).
         """
         amp = self.vector / self._reference(self.vector, self.weights)
         sym = {c.symbol: a for c, a in zip(self.coordinates, amp)}
@@ -247,6 +280,7 @@ class ModeShape:
             "backward_amplitude": float(backward),
             "direction": direction,
             "frequency": float(abs(self.eigenvalue.imag)),
+            "frequency_unit": "rad/s",
         }
         return out
 

@@ -173,13 +173,25 @@ class DeutschEntry:
         Omega where Omega (1 - nu) = omega_b [rad/s]; None if the lag mode never
         reaches the body frequency (nu >= 1 there: no ground resonance).
     lag_frequency : float or None
-        nu at the tuning speed [per rev].
+        nu at the tuning speed [per rev] (nu changes with rotor speed when the
+        lag hinge has a spring).
     body_damping : float
         Body damper, referred to the hub [N s/m].
     required_lag_damping : float or None
         [N m s/rad]; inf if the body has no damping; None without tuning.
     installed_lag_damping : float
-        Smallest lag damper on the rotor [N m s/rad].
+        The smallest WORKING lag damper on the rotor [N m s/rad]: the blades'
+        damper when they are identical; with dissimilar blades the smallest
+        non-zero damper (a failed damper, 0, is counted in ``failed_dampers``,
+        not taken as installed). 0 when no blade has a damper.
+    failed_dampers : int
+        Blades without a lag damper on a rotor where other blades have one.
+    limitation : str or None
+        Why the criterion does not apply as stated, None where it does. It
+        assumes N >= 3 identical blades: "blades differ" (the rotor is smeared
+        to its average blade, which can miss the instability a failed damper
+        causes) or "two blades" (a two-bladed rotor has no cyclic lag pair
+        and periodic coefficients in every frame).
     """
 
     body_mode: str
@@ -190,12 +202,54 @@ class DeutschEntry:
     body_damping: float
     required_lag_damping: float | None
     installed_lag_damping: float
+    failed_dampers: int = 0
+    limitation: str | None = None
+
+    @property
+    def applies(self) -> bool:
+        """Whether the criterion applies as stated (N >= 3 identical blades)."""
+        return self.limitation is None
 
     @property
     def satisfied(self) -> bool | None:
-        if self.required_lag_damping is None:
+        """Installed (smallest working) damper >= required; None where there is
+        no verdict (the criterion does not apply, or no tuning): see :attr:`reason`."""
+        if not self.applies or self.required_lag_damping is None:
             return None
         return self.installed_lag_damping >= self.required_lag_damping
+
+    @property
+    def reason(self) -> str:
+        """Why the verdict is what it is, in words."""
+        if self.limitation == "blades differ":
+            return (
+                "does not apply: blades differ (the criterion assumes identical blades; the "
+                "required value is for the average blade, which can miss a failed damper)"
+            )
+        if self.limitation is not None:
+            return (
+                f"does not apply: {self.limitation} (the criterion assumes N >= 3 identical blades; "
+                "a two-bladed rotor has no cyclic lag pair and periodic coefficients in every frame)"
+            )
+        if self.required_lag_damping is None:
+            return "no tuning: the regressive lag mode never reaches the body frequency (nu >= 1)"
+        if math.isinf(self.required_lag_damping):
+            return "body undamped: no finite lag damping suffices"
+        return "installed damper >= required" if self.satisfied else "installed damper < required"
+
+
+def installed_lag_damping(rotor: Rotor) -> tuple[float, int]:
+    """The smallest working lag damper [N m s/rad] and the number of failed ones.
+
+    A blade without a damper (0) on a rotor where other blades have one counts
+    as a failed damper, not as the installed value; when no blade has a damper
+    the installed value is 0 and none has failed.
+    """
+    values = [b.lag_damping for b in rotor.blades]
+    working = [v for v in values if v > 0]
+    if not working:
+        return 0.0, 0
+    return float(min(working)), len(values) - len(working)
 
 
 def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
@@ -223,6 +277,9 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     Dissimilar blades are smeared: every property is averaged over the blades
     (the constant-coefficient approximation, which Hammond 1974 shows can
     miss the instability a failed damper causes; the exact value does not).
+    Their entries, and those of a two-bladed rotor, say why the criterion does
+    not apply (``limitation``) and give no verdict; the installed value is the
+    smallest working damper (:func:`installed_lag_damping`).
     """
     from dataclasses import fields
 
@@ -235,6 +292,10 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     k1 = blade.lag_stiffness / blade.blade_inertia
     k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
     s = blade.blade_static_moment
+    installed, failed = installed_lag_damping(rotor)
+    limitation = None if rotor.identical else "blades differ"
+    if n < 3:
+        limitation = "two blades"
     entries = []
     modes = []
     for a, b_ in (("x", "y"), ("pitch", "roll")):
@@ -257,7 +318,9 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
         if nu is not None:
             product = factor * s**2 * wb**2 * (1 - nu) / nu
             required = math.inf if damping == 0 else product / damping
-        entries.append(DeutschEntry(name, form, wb, tuning, nu, damping, required, blade.lag_damping))
+        entries.append(
+            DeutschEntry(name, form, wb, tuning, nu, damping, required, installed, failed, limitation)
+        )
     return entries
 
 

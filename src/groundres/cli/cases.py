@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from .common import DEFAULT_CASE, fail_user, make_console
+from .common import DEFAULT_CASE, fail_user, make_console, plain
 
 
 @click.command("cases")
@@ -13,9 +13,8 @@ def command(name):
     """List the shipped cases, or print the case file NAME."""
     import tomllib
 
-    from rich.table import Table
-
     from ..config import shipped_cases
+    from .report import simple_table
 
     shipped = shipped_cases()
     console = make_console()
@@ -24,11 +23,9 @@ def command(name):
             fail_user(f"case {name!r}: no such shipped case; choose one of {', '.join(shipped)}")
         click.echo(shipped[name], nl=False)
         return
-    table = Table(title="Shipped cases (run with: groundres run NAME)", title_justify="left")
+    table = simple_table(f"Shipped cases (run with: groundres run NAME; the default is {DEFAULT_CASE})")
     table.add_column("name")
     table.add_column("title")
     for key, text in shipped.items():
-        table.add_row(
-            key + (" (default)" if key == DEFAULT_CASE else ""), tomllib.loads(text).get("title", "")
-        )
+        table.add_row(key, plain(tomllib.loads(text).get("title", "")))
     console.print(table)

@@ -64,15 +64,43 @@ def status(console, text):
     import contextlib
 
     if console.is_terminal:
-        return console.status(text)
+        from rich.text import Text
+
+        return console.status(Text(text))  # plain text: a title's brackets are not markup
     return contextlib.nullcontext()
 
 
-def fmt_speed(w, sweep):
-    """A speed [rad/s] in the case's unit, with its ratio to the reference."""
+def fmt_speed(w, sweep, digits: int = 5, ref: bool = True):
+    """A speed [rad/s] in the case's unit, with its ratio to the reference ("ref")."""
     from ..params import SPEED_UNITS
 
-    text = f"{w / SPEED_UNITS[sweep.unit]:.5g} {sweep.unit}"
-    if sweep.reference:
+    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g} {sweep.unit}"
+    if ref and sweep.reference:
         text += f" ({w / sweep.reference:.4g} ref)"
     return text
+
+
+#: How a frequency reads in a case whose speeds are in each unit (as on the Coleman diagram).
+FREQUENCY_UNITS = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
+
+
+def fmt_frequency(w, sweep, digits: int = 4):
+    """A frequency [rad/s] in the case's unit (cycles/min for rpm), rad/s beside it."""
+    from ..params import SPEED_UNITS
+
+    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g} {FREQUENCY_UNITS[sweep.unit]}"
+    return text if sweep.unit == "rad/s" else f"{text} ({w:.{digits}g} rad/s)"
+
+
+def ref_note(sweep) -> str | None:
+    """The line that explains "ref" once, or None without a reference speed."""
+    if not sweep.reference:
+        return None
+    return f"ref: rotor speed / the case's reference speed, {fmt_speed(sweep.reference, sweep, ref=False)}."
+
+
+def plain(text) -> str:
+    """User text (a title, a label) made safe to print through rich: markup shown literally."""
+    from rich.markup import escape
+
+    return escape(str(text))

@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import click
 
-from .common import OUT, case_at_speed, fail_user, make_console, output_dir, status
+from .common import (
+    OUT,
+    case_at_speed,
+    fail_user,
+    fmt_frequency,
+    make_console,
+    output_dir,
+    plain,
+    ref_note,
+    status,
+)
 
 
 @click.command("phasors")
@@ -29,12 +39,11 @@ def command(case, speed, labels, gif, out):
     the rate's lead over the displacement split into quadrature (neutral) and
     in-phase (growth) parts, and the whirl decomposition of the rotor.
     """
-    import json
-
     import numpy as np
 
     from .. import io
     from ..analysis import analyze
+    from ..shapes import phasor_header
 
     console = make_console()
     the_case, w = case_at_speed(case, speed)
@@ -62,36 +71,78 @@ def command(case, speed, labels, gif, out):
         frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
         for frame, items in frames.items():
             rows += [{"mode": label, "frame": frame, **item} for item in items]
-        lam = shape.eigenvalue
-        report[label] = {
-            "rotor_speed": shape.rotor_speed,
-            "eigenvalue": {"real": lam.real, "imag": lam.imag},
-            "unstable": bool(shape.unstable),
-            "in_phase_fraction_expected": lam.real / abs(lam) if abs(lam) else None,
-            "phasors": frames,
-            "whirl": shape.whirl(),
-        }
+        report[label] = _report_entry(shape, frames, the_case.sweep)
         if gif:
             from ..plotting.animation import mode_animation
 
-            anim = mode_animation(shape)
+            anim = mode_animation(shape, speed_text=speed_text)
             with io.atomic_path(out_dir / f"mode_{slug}.gif") as tmp:
                 from matplotlib.animation import PillowWriter
 
                 anim.save(tmp, writer=PillowWriter(fps=15), dpi=70)
-    io.write_text(out_dir / "phasors.json", json.dumps(report, indent=2) + "\n")
-    io.write_csv(out_dir / "phasors.csv", list(rows[0]), [list(r.values()) for r in rows])
+    io.write_json(out_dir / "phasors.json", report)
+    io.write_csv(out_dir / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
+    console.print(f"Modes of {plain(the_case.title)} at {plain(speed_text)}:")
     for label in labels:
         r = report[label]
         com = r["whirl"]["centre_of_mass"]
-        lead = np.nanmean(
+        lead = np.mean(
             [p["rate_lead_deg"] for p in r["phasors"]["nonrotating"] if p["displacement_amplitude"] > 1e-3]
         )
+        state = "[red]unstable[/red]" if r["unstable"] else ("neutral" if r["neutral"] else "stable")
         console.print(
-            f"{label}: {'[red]unstable[/red]' if r['unstable'] else 'stable'}, "
-            f"rates lead displacements by {lead:.2f} deg; rotor centre of mass whirls {com['direction']} "
-            f"at {com['frequency']:.4g} rad/s"
+            f"{plain(label)}: {state}, rates lead displacements by {lead:.2f} deg; rotor centre of mass "
+            f"whirls {com['direction']} at {fmt_frequency(com['frequency'], the_case.sweep)}"
         )
-    console.print(
-        f"Wrote {out_dir}/phasors_*.png" + (", mode_*.gif" if gif else "") + ", phasors.csv, phasors.json"
-    )
+    if ref_note(the_case.sweep):
+        console.print(plain(ref_note(the_case.sweep)))
+    gifs = ", mode_*.gif" if gif else ""
+    console.print(f"Wrote {plain(out_dir)}/phasors_*.png{gifs}, phasors.csv, phasors.json")
+
+
+#: Units of phasors.json (SI, the data contract; the console speaks the case's unit).
+REPORT_UNITS = {
+    "rotor_speed": "rad/s",
+    "eigenvalue": "1/s (imaginary part: rad/s, seen from nonrotating axes)",
+    "whirl frequency": "rad/s",
+    "displacement_amplitude": "m (body x, y) or rad (angles), relative to the reference coordinate",
+    "rate_amplitude": "m/s or rad/s, relative to the reference coordinate",
+    "phases": "deg",
+    "fractions": "-",
+}
+
+
+def _report_entry(shape, frames, sweep) -> dict:
+    """One mode of phasors.json: strict JSON, a reason beside every null."""
+    from ..params import SPEED_UNITS
+
+    lam = shape.eigenvalue
+    no_motion = "the coordinate does not move in this mode (zero displacement): no phase"
+    frames = {f: [dict(item) for item in items] for f, items in frames.items()}
+    for items in frames.values():
+        for item in items:
+            if item["displacement_amplitude"] == 0:
+                for key in (
+                    "displacement_phase_deg",
+                    "rate_phase_deg",
+                    "rate_lead_deg",
+                    "rate_quadrature_fraction",
+                    "rate_in_phase_fraction",
+                ):
+                    item[key] = None
+                    item[f"{key}_reason"] = no_motion
+    entry = {
+        "rotor_speed": shape.rotor_speed,
+        "rotor_speed_in_case_unit": shape.rotor_speed / SPEED_UNITS[sweep.unit],
+        "case_unit": sweep.unit,
+        "units": dict(REPORT_UNITS),
+        "eigenvalue": {"real": lam.real, "imag": lam.imag},
+        "neutral": bool(shape.neutral),
+        "unstable": bool(shape.unstable),
+        "in_phase_fraction_expected": lam.real / abs(lam) if abs(lam) else None,
+    }
+    if entry["in_phase_fraction_expected"] is None:
+        entry["in_phase_fraction_expected_reason"] = "root at the origin: no phase"
+    entry["phasors"] = frames
+    entry["whirl"] = shape.whirl()
+    return entry

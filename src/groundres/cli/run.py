@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from .common import DEFAULT_CASE, OUT, fmt_speed, load, make_console, output_dir, status
+from .common import DEFAULT_CASE, OUT, load, make_console, output_dir, status
 
 
 @click.command("run")
@@ -93,70 +93,6 @@ def _write_all(result, out_dir: Path, damping_ratio: bool, pool=None):
 
 
 def _print_result(console, result, out_dir):
-    from rich.table import Table
+    from .report import print_result
 
-    summary = result.summary()
-    sweep = result.case.sweep
-    console.print(
-        f"[bold]{result.case.title}[/bold]  ({summary['method']}, frequencies in the {result.frame} frame)"
-    )
-    if summary["stable"]:
-        console.print(
-            "[green]Stable[/green] over the whole sweep "
-            f"{fmt_speed(result.rotor_speed[0], sweep)} to {fmt_speed(result.rotor_speed[-1], sweep)}."
-        )
-    else:
-        table = Table(title="Unstable rotor-speed ranges", title_justify="left")
-        for col in ("from", "to", "modes"):
-            table.add_column(col)
-        for r in summary["unstable_ranges"]:
-            table.add_row(fmt_speed(r["start"], sweep), fmt_speed(r["end"], sweep), ", ".join(r["modes"]))
-        console.print(table)
-    mr, md = summary["max_real_part"], summary["min_damping_ratio"]
-    console.print(
-        f"Largest real part {mr['value']:.4g} 1/s ({mr['mode']}) at {fmt_speed(mr['speed'], sweep)}; "
-        f"smallest damping ratio {md['value']:.4g} ({md['mode']}) at {fmt_speed(md['speed'], sweep)}."
-    )
-    lag = summary["lag_damping"]
-    table = Table(
-        title="Lag damping [N m s/rad] by the Deutsch criterion, per body mode", title_justify="left"
-    )
-    for col in ("body", "form", "omega_b [rad/s]", "tuning speed", "nu", "needs", "installed", "ok"):
-        table.add_column(col)
-    for e in lag["deutsch"]:
-        need = e["required_lag_damping"]
-        need_text = (
-            "none (no coalescence)"
-            if need is None
-            else ("infinite (body undamped)" if need == "infinite" else f"{need:.5g}")
-        )
-        ok = {True: "[green]yes[/green]", False: "[red]no[/red]", None: "-"}[e["satisfied"]]
-        table.add_row(
-            e["body_mode"],
-            e["form"],
-            f"{e['body_frequency']:.4g}",
-            "-" if e["tuning_speed"] is None else fmt_speed(e["tuning_speed"], sweep),
-            "-" if e["lag_frequency_per_rev"] is None else f"{e['lag_frequency_per_rev']:.4g}",
-            need_text,
-            f"{e['installed_lag_damping']:.5g}",
-            ok,
-        )
-    console.print(table)
-    if not result.case.rotor.identical:
-        console.print(
-            "Blades differ: the Deutsch rows use the rotor's average blade (smeared damper), "
-            "which can miss what a failed damper does; the exact value below governs."
-        )
-    exact = lag["exact_minimum"]
-    which = "every blade" if result.case.rotor.identical else "every working damper"
-    if exact is None:
-        console.print(
-            f"Exact minimum lag damping (on {which}): none, up to a large multiple of the installed "
-            "damper, makes the sweep stable with the installed body damping."
-        )
-    else:
-        console.print(
-            f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad "
-            f"(installed {lag['installed']:.5g})."
-        )
-    console.print(f"Wrote {out_dir}/summary.json, modes.csv, modes.nc, coleman.png")
+    print_result(console, result, out_dir)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from .common import DEFAULT_CASE, OUT, case_at_speed, fail_user, make_console, status
+from .common import DEFAULT_CASE, OUT, case_at_speed, fail_user, make_console, plain, status
 
 
 @click.command("simulate")
@@ -33,7 +33,9 @@ def command(case, speed, duration, initial, out):
     from .. import io
     from .. import simulate as sim_module
     from ..analysis import choose_method, root_solver
+    from ..dataset import coordinate_unit
     from ..plotting.timehistory import time_history
+    from ..stability import growth_threshold
     from ..system import System
 
     console = make_console()
@@ -66,10 +68,19 @@ def command(case, speed, duration, initial, out):
         predicted = float(root_solver(the_case, method).roots(w).real.max())
     fig = time_history(sim, title=the_case.title, growth=growth, predicted=predicted)
     io.write_figure(fig, out_dir / "simulation.png")
-    header = ["time"] + [c.symbol if c.kind == "body" else f"{c.kind}{c.name}" for c in sim.coordinates]
+    header = ["time [s]"] + [
+        f"{c.symbol if c.kind == 'body' else f'{c.kind}{c.name}'} [{coordinate_unit(c)}]"
+        for c in sim.coordinates
+    ]
     io.write_csv(out_dir / "simulation.csv", header, np.column_stack([sim.time, sim.displacement]))
-    console.print(
-        f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
-        f" ({100 * (growth - predicted) / abs(predicted) if predicted else 0:+.3f} %)."
-    )
-    console.print(f"Wrote {out_dir}/simulation.png, simulation.csv")
+    if abs(predicted) <= growth_threshold(w):  # round-off: the analysis says neutral
+        console.print(
+            f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) 0 1/s (neutral: "
+            "within the growth threshold of zero)."
+        )
+    else:
+        console.print(
+            f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
+            f" ({100 * (growth - predicted) / abs(predicted):+.3f} %)."
+        )
+    console.print(f"Wrote {plain(out_dir)}/simulation.png, simulation.csv")

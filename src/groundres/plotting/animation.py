@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 
-def mode_animation(shape, frames: int = 60, cycles: float = 2.0, exaggeration_deg: float = 18.0):
+def mode_animation(
+    shape, frames: int = 60, cycles: float = 2.0, exaggeration_deg: float = 18.0, speed_text: str = ""
+):
     """An animation of a :class:`~groundres.shapes.ModeShape` seen from above.
 
     Left: nonrotating axes (the rotor turns); right: rotating axes (the blades
@@ -13,6 +15,7 @@ def mode_animation(shape, frames: int = 60, cycles: float = 2.0, exaggeration_de
     chosen so that the largest lag angle of the first cycle shows as
     ``exaggeration_deg``; flap shows as the size of the blade-tip marker. The
     rotor's centre of mass leaves a trace. A growing mode grows on screen.
+    ``speed_text`` names the speed in the case's unit (default: rad/s).
 
     Returns
     -------
@@ -62,6 +65,8 @@ def mode_animation(shape, frames: int = 60, cycles: float = 2.0, exaggeration_de
         cg = ax.plot([], [], "o", ms=5, color="tab:blue")[0]
         artists.append((blades, tips, body, trace, cg))
     cg_path = [[], []]
+    speed = speed_text or f"{w:.4g} rad/s"
+    flag = "unstable, growing" if shape.unstable else ("neutral" if shape.neutral else "stable, decaying")
     status = fig.suptitle("", fontsize=10)
 
     def screen(x, y):
@@ -94,9 +99,8 @@ def mode_animation(shape, frames: int = 60, cycles: float = 2.0, exaggeration_de
             trace.set_data(*zip(*cg_path[panel]))
             cg.set_data([cg_path[panel][-1][0]], [cg_path[panel][-1][1]])
             out += [*blades, tips, body, trace, cg]
-        flag = "unstable, growing" if shape.unstable else "stable"
         status.set_text(
-            f"{shape.label} at {w:.4g} rad/s ({flag}); t = {t[i]:.2f} s; lag and hub motion exaggerated; "
+            f"{shape.label} at {speed} ({flag}); t = {t[i]:.2f} s; lag and hub motion exaggerated; "
             f"blue: rotor centre of mass"
         )
         return out

@@ -15,7 +15,8 @@ def phasor_diagram(shape, fig=None, speed_text=""):
     (body, lag, flap), each scaled to its largest displacement. Displacements
     are solid arrows, rates hollow dashed arrows of the same colour, scaled by
     1/|lambda| so that a neutral mode shows them equally long and 90 degrees
-    ahead.
+    ahead. ``speed_text`` names the speed in the case's unit (default: rad/s);
+    a real part within the growth threshold of zero shows as 0 (neutral).
 
     Returns
     -------
@@ -77,11 +78,15 @@ def phasor_diagram(shape, fig=None, speed_text=""):
             ax.set_title(f"{group}, {frame} axes{unit if group == 'body' else ''}", fontsize=10)
     lam = shape.eigenvalue
     ratio = -lam.real / abs(lam) if abs(lam) > 0 else float("nan")
-    flag = "UNSTABLE" if shape.unstable else "stable"
+    flag = "UNSTABLE" if shape.unstable else ("neutral" if shape.neutral else "stable")
     lead = np.mean([p.rate_lead for p in table["nonrotating"] if abs(p.displacement) > 1e-3])
+    if shape.neutral:  # round-off, not a result: the real part within the growth threshold of zero
+        real, ratio_text = "0", "0"
+    else:
+        real, ratio_text = f"{lam.real:.4g}", f"{ratio:.3g}"
     fig.suptitle(
         f"{shape.label} at {speed_text or f'{shape.rotor_speed:.4g} rad/s'}: {flag}, "
-        f"lambda = {lam.real:.4g} + {lam.imag:.4g}i 1/s, damping ratio {ratio:.3g}\n"
+        f"lambda = {real} + {lam.imag:.4g}i 1/s, damping ratio {ratio_text}\n"
         f"solid: displacement; dashed: rate / |lambda|; rates lead displacements by {lead:.2f} deg "
         f"(90 for a neutral mode; less when growing, more when decaying)",
         fontsize=10,

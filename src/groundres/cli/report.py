@@ -1,0 +1,215 @@
+"""What `groundres run` prints: verdict, worst values, the Deutsch table, at 80 columns.
+
+Speeds are in the case's unit (with their ratio to the reference speed, "ref");
+values within the growth threshold of zero print as neutral, not as numbers
+(they are round-off; the data files keep them as computed). User text
+(titles) is printed literally, never as rich markup.
+"""
+
+from __future__ import annotations
+
+from .common import FREQUENCY_UNITS, fmt_speed, plain, ref_note
+
+
+def simple_table(title: str):
+    """A table that fits 80 columns: a rule under the header, two spaces between columns."""
+    from rich import box
+    from rich.table import Table
+
+    return Table(
+        title=title, title_justify="left", box=box.SIMPLE_HEAD, show_edge=False, padding=(0, 1, 0, 0)
+    )
+
+
+def threshold_text() -> str:
+    from ..stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+
+    return f"{GROWTH_PER_RADIAN:g} 1/s per rad/s of rotor speed + {GROWTH_FLOOR:g} 1/s"
+
+
+def worst_values(summary: dict, sweep) -> str:
+    """The largest real part and smallest damping ratio, neutral where they are round-off."""
+    mr, md = summary["max_real_part"], summary["min_damping_ratio"]
+    if mr["value"] is None:
+        first = f"Largest real part: none ({mr['value_reason']})"
+    elif mr["neutral"]:
+        first = (
+            f"Largest real part: neutral (below the growth threshold, {threshold_text()}, "
+            "over the sweep: round-off, not growth)"
+        )
+    else:
+        at = fmt_speed(mr["speed"], sweep)
+        first = f"Largest real part {mr['value']:.4g} 1/s ({plain(mr['mode'])}) at {at}"
+    if md["value"] is None:
+        second = f"smallest damping ratio: none ({md['value_reason']})"
+    elif md["neutral"]:
+        second = "smallest damping ratio 0 (neutral)"
+    else:
+        at = fmt_speed(md["speed"], sweep)
+        second = f"smallest damping ratio {md['value']:.4g} ({plain(md['mode'])}) at {at}"
+    return f"{first}; {second}."
+
+
+def unstable_table(summary: dict, sweep):
+    unit = sweep.unit
+    table = simple_table("Unstable rotor-speed ranges")
+    for header in (f"from [{unit}]", f"to [{unit}]", "growing modes"):
+        table.add_column(plain(header))
+    for r in summary["unstable_ranges"]:
+        modes = plain(", ".join(r["modes"]))
+        table.add_row(_speed_cell(r["start"], sweep), _speed_cell(r["end"], sweep), modes)
+    return table
+
+
+def _speed_cell(w, sweep, digits=5, sep=" ") -> str:
+    """A speed in a column headed with the unit: the number, and its ratio to the reference."""
+    from ..params import SPEED_UNITS
+
+    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g}"
+    return text + (f"{sep}({w / sweep.reference:.4g} ref)" if sweep.reference else "")
+
+
+def _verdict(e: dict) -> str:
+    if not e["applies"]:
+        return f"does not apply:\n{e['limitation']}"
+    if e["tuning_speed"] is None:
+        return "none needed:\nno tuning"
+    if e["required_lag_damping"] is None:
+        return "[red]no[/red]: body undamped"
+    return "[green]yes[/green]" if e["satisfied"] else "[red]no[/red]"
+
+
+def _tuning_cell(e: dict, sweep) -> str:
+    if e["tuning_speed"] is None:
+        return "none"
+    text = _speed_cell(e["tuning_speed"], sweep, digits=4, sep="\n")
+    return text if e["tuning_in_sweep"] else f"{text}\n{_side(e, sweep)}"
+
+
+def _side(e: dict, sweep) -> str:
+    return "beyond sweep" if e["tuning_speed"] > sweep.stop else "below sweep"
+
+
+def _installed(lag: dict) -> str:
+    if lag["installed"] == 0:
+        return "no lag damper"
+    text = f"{lag['installed']:.5g} N m s/rad"
+    return text + (f", {lag['failed_dampers']} failed" if lag["failed_dampers"] else "")
+
+
+def deutsch_table(summary: dict, sweep):
+    """One row per body mode: tuning, requirement and the verdict on the installed damper."""
+    from ..params import SPEED_UNITS
+
+    lag = summary["lag_damping"]
+    unit = sweep.unit
+    table = simple_table("Lag damping by the Deutsch criterion, per body mode")
+    for header in (
+        "body mode",
+        f"omega_b\n[{FREQUENCY_UNITS[unit]}]",
+        f"tuning\n[{unit}]",
+        "nu\n[/rev]",
+        "needs\n[N m s/rad]",
+        "verdict",
+    ):
+        name, _, units = header.partition("\n")
+        table.add_column(plain(header), min_width=max(len(name), len(units)))
+    for e in lag["deutsch"]:
+        need = e["required_lag_damping"]
+        if e["tuning_speed"] is None:
+            need_text = "-"
+        else:
+            need_text = "infinite" if need is None else f"{need:.5g}"
+        table.add_row(
+            e["body_mode"],
+            f"{e['body_frequency'] / SPEED_UNITS[unit]:.4g}",
+            _tuning_cell(e, sweep),
+            "-" if e["lag_frequency_per_rev"] is None else f"{e['lag_frequency_per_rev']:.4g}",
+            need_text,
+            _verdict(e),
+        )
+    return table
+
+
+def deutsch_notes(summary: dict, sweep) -> list[str]:
+    """The lines under the Deutsch table: every symbol explained once."""
+    rows = summary["lag_damping"]["deutsch"]
+    forms = {e["form"] for e in rows}
+    text = (
+        "omega_b: body frequency, rotor mass included; tuning: rotor speed where the regressive "
+        "lag frequency Omega (1 - nu) meets omega_b; nu: rotating lag frequency at that speed "
+        "[per rev]"
+    )
+    if "isotropic" in forms:
+        text += "; x-y, pitch-roll: isotropic form (both directions alike)"
+    if "planar" in forms:
+        text += "; x, y, pitch, roll: planar form"
+    lag = summary["lag_damping"]
+    if lag["installed"] == 0:
+        installed = "Installed lag damping: none."
+    else:
+        failed = f" ({lag['failed_dampers']} failed)" if lag["failed_dampers"] else ""
+        installed = f"Installed: {lag['installed']:.5g} N m s/rad, the smallest working lag damper{failed}."
+    notes = [installed, text + "."]
+    outside = {_side(e, sweep) for e in rows if e["tuning_in_sweep"] is False}
+    if outside:
+        notes.append(
+            f"{' / '.join(sorted(outside))}: the tuning speed lies outside the sweep "
+            f"({fmt_speed(sweep.start, sweep, ref=False)} to {fmt_speed(sweep.stop, sweep, ref=False)}), "
+            "so the sweep does not reach that resonance."
+        )
+    ref = ref_note(sweep)
+    if ref:
+        notes.append(ref)
+    limits = {e.get("limitation") for e in rows} - {None}
+    if "blades differ" in limits:
+        notes.append(
+            "Blades differ: the criterion assumes identical blades; its 'needs' is for the "
+            "average blade (smeared damper), which can miss what a failed damper does. The "
+            "exact minimum below governs."
+        )
+    if "two blades" in limits:
+        notes.append(
+            "Two blades: the criterion assumes N >= 3 blades; a two-bladed rotor has periodic "
+            "coefficients in every frame. Its 'needs' is indicative only; the exact minimum "
+            "below governs."
+        )
+    return [plain(n) for n in notes]
+
+
+def print_result(console, result, out_dir) -> None:
+    summary = result.summary()
+    sweep = result.case.sweep
+    console.print(
+        f"[bold]{plain(result.case.title)}[/bold]  "
+        f"({summary['method']}, frequencies in the {result.frame} frame)"
+    )
+    if summary["stable"]:
+        console.print(
+            "[green]Stable[/green] over the whole sweep "
+            f"{fmt_speed(result.rotor_speed[0], sweep)} to {fmt_speed(result.rotor_speed[-1], sweep)}."
+        )
+    else:
+        console.print()
+        console.print(unstable_table(summary, sweep))
+    console.print(worst_values(summary, sweep))
+    console.print()
+    console.print(deutsch_table(summary, sweep))
+    for line in deutsch_notes(summary, sweep):
+        console.print(line)
+    lag = summary["lag_damping"]
+    exact = lag["exact_minimum"]
+    which = "every blade" if result.case.rotor.identical else "every working damper"
+    installed = f"installed: {_installed(lag)}"
+    if exact is None:
+        console.print(
+            f"Exact minimum lag damping (on {which}): none, up to a large multiple of the installed "
+            f"damper, makes the sweep stable with the installed body damping ({installed})."
+        )
+    elif exact == 0:
+        console.print(f"Exact minimum lag damping: 0, the sweep is stable without lag damping ({installed}).")
+    else:
+        console.print(
+            f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad ({installed})."
+        )
+    console.print(f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.png")

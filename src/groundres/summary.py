@@ -1,0 +1,184 @@
+"""The summary.json content of a sweep: verdicts, worst values, damping requirements.
+
+Every speed is in rad/s and every number is SI (the data contract; the case's
+own unit is in ``sweep.unit_in_case``). Every number is a finite number or
+null, and a null always has a ``<name>_reason`` string beside it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._version import __version__
+from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, DeutschEntry, growth_threshold, installed_lag_damping
+
+#: Units of the quantities in summary.json.
+UNITS = {
+    "speed": "rad/s",
+    "frequency": "rad/s",
+    "real_part": "1/s",
+    "damping_ratio": "1",
+    "lag_damping": "N m s/rad",
+    "body_damping": "N s/m (pitch and roll referred to the hub)",
+    "lag_frequency": "per rev",
+}
+
+DEUTSCH_NOTE = (
+    "Deutsch criterion at exact tuning Omega (1 - nu) = omega_b, light damping: "
+    "planar C_b C_lag >= (N/4) S^2 omega_b^2 (1-nu)/nu; isotropic "
+    "C_h C_lag >= (N/2) S^2 omega_h^2 (1-nu)/nu; omega_b includes the rotor mass; "
+    "nu is the rotating lag frequency [per rev] at the tuning speed; the verdict "
+    "compares the smallest working damper with the requirement and is null where "
+    "the criterion does not apply (dissimilar blades, two blades) or there is no tuning"
+)
+
+
+def num(x):
+    """A JSON-safe float (None for None, NaN or infinity)."""
+    if x is None:
+        return None
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def put(out: dict, key: str, value, reason: str) -> dict:
+    """``out[key] = num(value)``; where that is null, ``out[key + "_reason"] = reason``."""
+    out[key] = num(value)
+    if out[key] is None:
+        out[f"{key}_reason"] = reason
+    return out
+
+
+def neutral(value, speed) -> bool:
+    """Whether a real part [1/s] at ``speed`` [rad/s] is round-off: |value| at or
+    below the growth threshold (:func:`groundres.stability.growth_threshold`)."""
+    return bool(abs(value) <= growth_threshold(speed))
+
+
+def summary(result) -> dict:
+    """The summary.json content of a :class:`~groundres.results.SweepResult`."""
+    st = result.stability
+    case = result.case
+    sweep = case.sweep
+    installed, failed = installed_lag_damping(case.rotor)
+    speeds = result.rotor_speed
+    out = {
+        "title": case.title,
+        "groundres_version": __version__,
+        "method": result.method,
+        "frame": result.frame,
+        "speed_unit": "rad/s",
+        "units": dict(UNITS),
+        "stable": st.stable,
+        "unstable_ranges": [
+            {"start": s, "end": e, "modes": result.unstable_modes(s, e)} for s, e in st.unstable_ranges
+        ],
+        "max_real_part": _max_real_part(result),
+        "min_damping_ratio": _min_damping_ratio(result),
+        "growth_threshold_per_radian": GROWTH_PER_RADIAN,
+        "growth_threshold_floor": GROWTH_FLOOR,
+        "growth_threshold_note": (
+            "a root grows when its real part exceeds growth_threshold_per_radian * rotor speed "
+            "+ growth_threshold_floor [1/s]; values within that of zero are neutral (round-off)"
+        ),
+        "case": {
+            "source": case.source,
+            "blades": case.rotor.n_blades,
+            "flap": case.rotor.flap,
+            "body_dofs": list(case.body.dofs),
+            "identical_blades": case.rotor.identical,
+            "isotropic_body": case.body.isotropic,
+        },
+        "sweep": {
+            "start": float(speeds[0]),
+            "stop": float(speeds[-1]),
+            "points": int(len(speeds)),
+            "unit_in_case": sweep.unit,
+        },
+        "modes": list(result.labels),
+    }
+    put(out["sweep"], "reference", sweep.reference, "no reference speed in the case")
+    lag = {
+        "unit": "N m s/rad",
+        "installed": installed,
+        "installed_note": (
+            "the smallest working lag damper: the blades' damper when they are identical; "
+            "with dissimilar blades the smallest non-zero one (a failed damper, 0, is "
+            "counted in failed_dampers)"
+        ),
+        "per_blade": [float(b.lag_damping) for b in case.rotor.blades],
+        "failed_dampers": failed,
+    }
+    put(
+        lag,
+        "exact_minimum",
+        result.exact_lag_damping,
+        "no lag damping up to a large multiple of the Deutsch value and the installed damper "
+        "makes the sweep stable with the installed body damping",
+    )
+    lag["exact_minimum_note"] = (
+        "smallest lag damping, set on every working damper (on every blade when none has "
+        "one), for which no root grows anywhere in the sweep (eigenvalues; body damping "
+        "as installed)"
+    )
+    lag["deutsch"] = [deutsch_entry(e, speeds) for e in result.deutsch]
+    lag["deutsch_note"] = DEUTSCH_NOTE
+    out["lag_damping"] = lag
+    return out
+
+
+def _max_real_part(result) -> dict:
+    value, at = result.stability.max_real_part
+    out = put({}, "value", value, "no finite real part in the sweep")
+    put(out, "speed", at, "no finite real part in the sweep")
+    out["mode"] = result._mode_at(at, result.real_part)
+    out["growth_threshold"] = float(growth_threshold(at))
+    out["neutral"] = math.isfinite(value) and neutral(value, at)
+    return out
+
+
+def _min_damping_ratio(result) -> dict:
+    value, at = result.stability.min_damping_ratio
+    reason = "every root sits at the origin: no damping ratio"
+    out = put({}, "value", value, reason)
+    put(out, "speed", at, reason)
+    ratios = -np.nan_to_num(result.damping_ratio, nan=np.inf)
+    out["mode"] = result._mode_at(at, ratios)
+    # neutral: the root's real part, -ratio |lambda|, within the growth threshold
+    i = int(np.argmin(np.abs(result.rotor_speed - at)))
+    size = abs(result.modes.eigenvalue[i, result.labels.index(out["mode"])])
+    out["neutral"] = math.isfinite(value) and neutral(value * size, at)
+    return out
+
+
+def deutsch_entry(e: DeutschEntry, speeds) -> dict:
+    """One Deutsch row of summary.json (see docs/case-files.md)."""
+    no_tuning = "no tuning: the regressive lag mode never reaches the body frequency (nu >= 1)"
+    out = {"body_mode": e.body_mode, "form": e.form}
+    put(out, "body_frequency", e.body_frequency, "no body stiffness")
+    put(out, "tuning_speed", e.tuning_speed, no_tuning)
+    if e.tuning_speed is None:
+        out["tuning_in_sweep"] = None
+        out["tuning_in_sweep_reason"] = no_tuning
+    else:
+        out["tuning_in_sweep"] = bool(speeds[0] <= e.tuning_speed <= speeds[-1])
+    put(out, "lag_frequency_per_rev", e.lag_frequency, no_tuning)
+    put(out, "body_damping", e.body_damping, "not finite")
+    if e.required_lag_damping is None:
+        out["required_lag_damping"] = None
+        out["required_lag_damping_reason"] = no_tuning
+    elif math.isinf(e.required_lag_damping):
+        out["required_lag_damping"] = None
+        out["required_lag_damping_reason"] = "body undamped: no finite lag damping suffices"
+    else:
+        out["required_lag_damping"] = float(e.required_lag_damping)
+    out["installed_lag_damping"] = float(e.installed_lag_damping)
+    out["failed_lag_dampers"] = e.failed_dampers
+    out["applies"] = e.applies
+    if not e.applies:
+        out["limitation"] = e.limitation
+    out["satisfied"] = e.satisfied
+    out["satisfied_reason"] = e.reason
+    return out
