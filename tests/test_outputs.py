@@ -144,6 +144,15 @@ def test_a_folder_groundres_did_not_write_is_refused(tmp_path):
     assert (good / "notes.txt").exists()
 
 
+def test_the_current_folder_is_refused(tmp_path, monkeypatch):
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    result = run("run", write_quick(tmp_path), "--out", ".")
+    assert result.exit_code == 2 and "current folder" in result.output
+    assert os.listdir(here) == [] and staging(tmp_path) == []
+
+
 def test_empty_and_older_groundres_folders_are_replaced(tmp_path):
     case = write_quick(tmp_path)
     empty = tmp_path / "empty"

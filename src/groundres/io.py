@@ -171,6 +171,11 @@ def check_output_folder(path: str | Path) -> None:
     folder groundres wrote that holds nothing else.
     """
     given, path = path, Path(os.path.realpath(path))
+    if path == Path(os.path.realpath(os.getcwd())):
+        raise OutputFolderError(
+            f"output folder {given}: is the current folder, which a run would replace whole; "
+            "choose a folder inside it, e.g. --out results"
+        )
     if path.exists() and not path.is_dir():
         raise OutputFolderError(f"output folder {given}: exists and is not a folder")
     if not path.exists():
