@@ -96,6 +96,10 @@ class _Solver:
     def weights(self, speeds):
         return self.system.kinetic_weights(speeds)
 
+    def accuracy(self) -> dict:
+        """How the last sweep's roots were found, and how accurately (for provenance)."""
+        return {"roots": "eigenvalues of each coupled block's state matrix (LAPACK geev, numpy.linalg.eig)"}
+
     def identify(self, sol: modal.Eigensolution, speeds) -> Modes:
         """Labels and frequencies of a tracked solution (:func:`groundres.identify.identify`)."""
         harmonics = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
@@ -135,9 +139,12 @@ class _Multiblade(_Solver):
         n_body = self.system.n_body
         return modal.block_eigenvalues(*mats, [b for b in self._blocks(mats) if b.min() < n_body])
 
-    def sweep(self, speeds):
+    def sweep(self, speeds, progress=None):
         mats = self.system.multiblade(speeds)
-        return modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
+        solution = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
+        if progress is not None:
+            progress(len(speeds), len(speeds))
+        return solution
 
     def with_lag_damping(self, value):
         new = super().with_lag_damping(value)
@@ -156,9 +163,11 @@ class _Rotating(_Solver):
 
     coupled_roots = roots
 
-    def sweep(self, speeds):
+    def sweep(self, speeds, progress=None):
         mats = self.system.rotating_axes(speeds)
         raw = modal.track(modal.solve(*mats, modal.coupling_blocks(*mats)), speeds)
+        if progress is not None:
+            progress(len(speeds), len(speeds))
         # one period of the motion seen from nonrotating axes: body axes turned by psi
         phase = 2 * np.pi * np.arange(self.samples) / self.samples
         q = np.broadcast_to(raw.vector, (self.samples,) + raw.vector.shape).copy()
@@ -185,8 +194,29 @@ class _Floquet(_Solver):
 
     coupled_roots = roots
 
-    def sweep(self, speeds):
-        fs = floquet.solve(self.system, speeds)
+    solved = None
+
+    def accuracy(self):
+        out = {
+            "roots": "Floquet exponents of transition matrices over the symmetry interval, integrated "
+            "with fixed steps of the Dormand-Prince eighth-order tableau, the step count of each "
+            "speed set by a Richardson error estimate",
+            "transition_tolerance": floquet.TOLERANCE,
+            "transition_tolerance_note": "largest error of an entry, relative to max(1, |Phi|)",
+            "harmonics": floquet.HARMONICS,
+        }
+        fs = self.solved
+        if fs is not None and (fs.steps > 0).any():
+            steps = fs.steps[fs.steps > 0]
+            out |= {
+                "interval_rad": fs.symmetry.angle,
+                "steps_per_interval": {"min": int(steps.min()), "max": int(steps.max())},
+                "lifted_speeds": int(fs.lifted.sum()),
+            }
+        return out
+
+    def sweep(self, speeds, progress=None):
+        fs = self.solved = floquet.solve(self.system, speeds, progress=progress)
         n = self.system.size
         # branches: exponents (modulo Omega) and eigenvectors vary continuously
         # with speed (the multipliers' phases wrap many times over a slow period)
@@ -224,7 +254,9 @@ def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> f
     return float(np.nan_to_num(identify.damping_ratio(best, scale=np.abs(cand).max()), nan=np.inf))
 
 
-def analyze(case: Case, *, frame: str | None = None, method: str | None = None, speeds=None) -> SweepResult:
+def analyze(
+    case: Case, *, frame: str | None = None, method: str | None = None, speeds=None, progress=None
+) -> SweepResult:
     """Analyse a case over its speed sweep.
 
     Parameters
@@ -236,6 +268,11 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
         "auto", "eigen" or "floquet"; defaults to the case's choice.
     speeds : array, optional
         Rotor speeds [rad/s] instead of the case's sweep (increasing).
+    progress : callable, optional
+        ``progress(stage, done, total)`` as the work advances: stage "sweep"
+        counts speeds (several calls for a periodic analysis, one at its end
+        for an eigen-analysis); "range ends" and "lag damping" are called with
+        ``(0, None)`` when they start and ``(1, 1)`` when they end.
 
     Returns
     -------
@@ -245,7 +282,10 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
     frame = frame or case.sweep.frame
     solver = _SOLVERS[form](System(case.rotor, case.body))
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
-    modes = solver.identify(solver.sweep(speeds), speeds)
+    report = progress or (lambda stage, done, total: None)
+    report("sweep", 0, len(speeds))
+    modes = solver.identify(solver.sweep(speeds, lambda done, total: report("sweep", done, total)), speeds)
+    report("range ends", 0, None)
     max_real = modes.real_part.max(-1)
     ratios = np.nan_to_num(modes.damping_ratio, nan=np.inf)  # (a root at the origin has none)
 
@@ -260,8 +300,20 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
         lambda w: float(solver.roots(w).real.max()),
         min_ratio_at,
     )
+    report("range ends", 1, 1)
+    accuracy = {
+        **solver.accuracy(),
+        "growth_threshold": {
+            "per_radian": stability.GROWTH_PER_RADIAN,
+            "floor": stability.GROWTH_FLOOR,
+            "unit": "1/s",
+            "note": "a root grows when its real part exceeds per_radian * rotor speed + floor",
+        },
+    }
     deutsch = stability.deutsch(case.rotor, case.body)
+    report("lag damping", 0, None)
     exact = _minimum_lag_damping(solver, case, speeds, deutsch)
+    report("lag damping", 1, 1)
     return SweepResult(
         case=case,
         method=METHOD_NAMES[form],
@@ -273,6 +325,7 @@ def analyze(case: Case, *, frame: str | None = None, method: str | None = None, 
         exact_lag_damping=exact,
         coordinates=solver.nr_coords,
         weights=solver.weights(speeds),
+        accuracy=accuracy,
     )
 
 

@@ -190,8 +190,8 @@ def _sweep(data: dict) -> Sweep:
         raise CaseError(f"[sweep] {err.key} = {value!r}: {allowed}") from None
 
 
-def parse_case(data: dict, source: str = "") -> Case:
-    """Build a Case from the parsed TOML tables.
+def parse_case(data: dict, source: str = "", text: str = "") -> Case:
+    """Build a Case from the parsed TOML tables (``text``: the file they came from).
 
     Raises
     ------
@@ -206,6 +206,7 @@ def parse_case(data: dict, source: str = "") -> Case:
         title=data.get("title", Path(source).stem if source else "groundres case"),
         description=data.get("description", ""),
         source=source,
+        text=text,
     )
 
 
@@ -229,7 +230,8 @@ def load_case(path_or_name: str | Path) -> Case:
     """
     path = Path(path_or_name)
     if path.is_file():
-        text, source = path.read_text(encoding="utf-8"), str(path)
+        # bytes decoded as they are (no newline translation): outputs keep the exact text
+        text, source = path.read_bytes().decode("utf-8"), str(path)
     else:
         shipped = shipped_cases()
         name = str(path_or_name).removesuffix(".toml")
@@ -242,4 +244,4 @@ def load_case(path_or_name: str | Path) -> Case:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise CaseError(f"{source}: not valid TOML: {err}") from None
-    return parse_case(data, source)
+    return parse_case(data, source, text)

@@ -263,6 +263,7 @@ def solve(
     tolerance=TOLERANCE,
     scale=STEP_SCALE,
     tableau=DOP8,
+    progress=None,
 ) -> FloquetSolution:
     """Floquet exponents, multipliers and (if ``harmonics`` > 0) periodic eigenvectors.
 
@@ -276,6 +277,8 @@ def solve(
         exponents only.
     tolerance, scale, tableau
         Accuracy of the transition matrices (:func:`groundres.transition.integrate`).
+    progress : callable, optional
+        ``progress(done, total)`` in speeds, called as batches of speeds are done.
     """
     speeds = np.asarray(speeds, dtype=float)
     sym = symmetry(system)
@@ -315,6 +318,7 @@ def solve(
         full = 2 * (order + harmonics) + 2  # samples over a revolution
         return divisor_at_least(count, max(-(-full // n_sym), 4))
 
+    finished = speeds <= 0
     low, high = (np.zeros(n_s), np.zeros(n_s))
     if len(moving):
         low[moving], high[moving] = frozen_real_parts(system, speeds[moving])
@@ -360,6 +364,9 @@ def solve(
             exponent[idx], out_h[idx] = _harmonics(system, sym, samples, weights[idx], lam, w, harmonics)
         else:
             exponent[idx] = lam
+        if progress is not None:
+            finished[idx] = True  # (a speed may be accepted again with more steps)
+            progress(int(finished.sum()), n_s)
 
     if len(moving):
         integrate(system, speeds[moving], sym.angle, tolerance, scale, tableau, blocks_for, accept)

@@ -311,7 +311,12 @@ class Sweep:
 
 @dataclass(frozen=True)
 class Case:
-    """Everything one analysis needs."""
+    """Everything one analysis needs.
+
+    ``source`` names where the case came from (a path or a shipped case's
+    name) and ``text`` is the case file's text exactly as read, which output
+    folders keep beside the results (both empty for a case built in Python).
+    """
 
     rotor: Rotor
     body: Body
@@ -319,3 +324,4 @@ class Case:
     title: str = "groundres case"
     description: str = ""
     source: str = field(default="", compare=False)
+    text: str = field(default="", compare=False, repr=False)

@@ -39,6 +39,9 @@ class SweepResult:
         Nonrotating coordinates of the mode shapes (``modes.shape``).
     weights : ndarray (n_s, n)
         Kinetic weight (mass-matrix diagonal) of each coordinate.
+    accuracy : dict, optional
+        How the roots were found and how accurately (solver, tolerances, step
+        counts, growth threshold), JSON-ready; output folders record it.
     """
 
     case: Case
@@ -51,6 +54,7 @@ class SweepResult:
     exact_lag_damping: float | None
     coordinates: list
     weights: np.ndarray | None = None
+    accuracy: dict | None = None
 
     @property
     def labels(self) -> list[str]:

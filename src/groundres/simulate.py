@@ -31,6 +31,8 @@ class Simulation:
     coordinates : list of Coordinate
     rotor_speed : float
         [rad/s].
+    rtol, atol : float, optional
+        Relative and absolute tolerances the integration was run with.
     """
 
     time: np.ndarray
@@ -38,6 +40,8 @@ class Simulation:
     velocity: np.ndarray
     coordinates: list
     rotor_speed: float
+    rtol: float | None = None
+    atol: float | None = None
 
     def growth_rate(self, start_fraction: float = 0.5) -> float:
         """Measured growth rate [1/s] of the motion.
@@ -72,7 +76,15 @@ def harmonic_matrices(system: System, speed: float) -> np.ndarray:
     return np.einsum("hj,gjab->ghab", np.linalg.inv(basis), values)
 
 
-def simulate(system: System, speed: float, duration: float, initial, rtol: float = 1e-10, points: int = 4000):
+def simulate(
+    system: System,
+    speed: float,
+    duration: float,
+    initial,
+    rtol: float = 1e-10,
+    points: int = 4000,
+    progress=None,
+):
     """Integrate the equations from ``initial`` = (q0, qdot0) over ``duration`` [s].
 
     Parameters
@@ -88,11 +100,20 @@ def simulate(system: System, speed: float, duration: float, initial, rtol: float
         Relative tolerance of DOP853.
     points : int
         Output instants (equally spaced; dense output in between steps).
+    progress : callable, optional
+        ``progress(done, total)`` in simulated seconds, called about every
+        percent of ``duration``.
     """
     n = system.size
     mats = harmonic_matrices(system, speed)
 
+    step = duration / 100
+    reached = [step]
+
     def rhs(t, x):
+        if progress is not None and t >= reached[0]:
+            reached[0] = t + step
+            progress(min(t, duration), duration)
         a = speed * t
         w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
         m, c, k = np.tensordot(w, mats, axes=(0, 1))
@@ -101,6 +122,7 @@ def simulate(system: System, speed: float, duration: float, initial, rtol: float
 
     q0, v0 = (np.asarray(a, dtype=float) for a in initial)
     times = np.linspace(0.0, duration, points)
+    atol = rtol * 1e-3 * max(np.abs(np.concatenate([q0, v0])).max(), 1e-12)
     sol = solve_ivp(
         rhs,
         (0.0, duration),
@@ -108,11 +130,11 @@ def simulate(system: System, speed: float, duration: float, initial, rtol: float
         method="DOP853",
         t_eval=times,
         rtol=rtol,
-        atol=rtol * 1e-3 * max(np.abs(np.concatenate([q0, v0])).max(), 1e-12),
+        atol=atol,
     )
     if not sol.success:
         raise RuntimeError(f"time integration failed: {sol.message}")
-    return Simulation(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed))
+    return Simulation(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed), rtol, float(atol))
 
 
 def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -1,8 +1,10 @@
 """Command line: parse, call the API, write and print, set the exit code.
 
 Exit status: 0 on success, 2 on a bad case file or option (one readable
-message, no traceback), 1 on any other failure. Set GROUNDRES_DEBUG=1 to see
-tracebacks of unexpected failures.
+message, no traceback), 1 on any other failure, 130 on Ctrl-C and 143 on
+SIGTERM (an output folder is then the one before the run, or the new one
+complete if the signal came while it was being put in place). Set
+GROUNDRES_DEBUG=1 to see tracebacks of unexpected failures.
 """
 
 from __future__ import annotations
@@ -13,13 +15,25 @@ import sys
 import click
 
 from . import cases, equations, phasors, run, simulate
-from .common import UserError
+from .common import Terminated, UserError, interrupts
 
 
 class _Group(click.Group):
+    def parse_args(self, ctx, args):
+        from datetime import UTC, datetime
+
+        ctx.meta["groundres.argv"] = list(args)
+        ctx.meta["groundres.started"] = datetime.now(UTC).isoformat(timespec="seconds")
+        return super().parse_args(ctx, args)
+
     def invoke(self, ctx):
         try:
-            return super().invoke(ctx)
+            with interrupts():
+                return super().invoke(ctx)
+        except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM: outputs were left whole
+            terminated = isinstance(err, Terminated)
+            click.echo("terminated" if terminated else "interrupted", err=True)
+            sys.exit(143 if terminated else 130)
         except (click.ClickException, click.exceptions.Exit, click.Abort, SystemExit):
             raise
         except BrokenPipeError:  # output piped into a program that stopped reading
@@ -28,9 +42,10 @@ class _Group(click.Group):
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from ..analysis import MethodError
             from ..config import CaseError
+            from ..io import OutputFolderError
             from ..transition import SpeedRangeError
 
-            if isinstance(err, (CaseError, MethodError, SpeedRangeError)):
+            if isinstance(err, (CaseError, MethodError, SpeedRangeError, OutputFolderError)):
                 raise UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import click
@@ -20,9 +21,55 @@ def fail_user(message: str):
     raise UserError(message)
 
 
-def output_dir(case: str | None, out) -> Path:
-    """--out, or groundres-out/<case name>."""
-    return Path(out) if out else Path("groundres-out") / (Path(case).stem if case else DEFAULT_CASE)
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that cleanup runs as for Ctrl-C."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
+@contextlib.contextmanager
+def interrupts():
+    """SIGTERM raises Terminated while the block runs (Ctrl-C raises KeyboardInterrupt)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
+
+
+def output_dir(case: str | None, out, command: str = "run") -> Path:
+    """--out, or groundres-out/<case name> for run and groundres-out/<case name>-<command> otherwise.
+
+    Each command's folder is replaced whole, so commands never share a default.
+    """
+    if out:
+        return Path(out)
+    name = Path(case).stem if case else DEFAULT_CASE
+    return Path("groundres-out") / (name if command == "run" else f"{name}-{command}")
+
+
+def check_out(path: Path) -> None:
+    """Refuse, before any work, an output folder that holds files groundres did not write."""
+    from ..io import OutputFolderError, check_output_folder
+
+    try:
+        check_output_folder(path)
+    except OutputFolderError as err:
+        fail_user(str(err))
+
+
+def invocation() -> dict:
+    """The command line and start time of this run (for provenance.json)."""
+    meta = click.get_current_context().meta
+    return {"argv": meta.get("groundres.argv", []), "started": meta.get("groundres.started", "")}
 
 
 def case_at_speed(case: str | None, speed: float):
@@ -44,13 +91,19 @@ def load(case: str | None):
         fail_user(str(err))
 
 
-OUT = click.option(
-    "--out",
-    "out",
-    type=click.Path(file_okay=False),
-    default=None,
-    help="Output directory [default: groundres-out/<case name>].",
-)
+def out_option(default: str):
+    """--out, replaced whole by each run (see docs/case-files.md, outputs)."""
+    return click.option(
+        "--out",
+        "out",
+        type=click.Path(file_okay=False),
+        default=None,
+        help=f"Output folder, replaced whole by this run; refused if it holds other files "
+        f"[default: {default}].",
+    )
+
+
+OUT = out_option("groundres-out/<case name>")
 
 
 def make_console():
@@ -68,6 +121,71 @@ def status(console, text):
 
         return console.status(Text(text))  # plain text: a title's brackets are not markup
     return contextlib.nullcontext()
+
+
+class Steps:
+    """Rich progress of a command's slow steps, on a terminal only (transient).
+
+    Call it as ``steps(stage, done, total)`` (``total`` None for a spinner);
+    ``steps.callback`` is the same callable on a terminal and None elsewhere,
+    for library functions that take a ``progress`` argument.
+    """
+
+    def __init__(self, console, labels=None):
+        self.console = console
+        self.labels = labels or {}
+        self._progress = None
+        self._tasks = {}
+
+    def __enter__(self):
+        if self.console.is_terminal:
+            from rich.progress import (
+                BarColumn,
+                Progress,
+                SpinnerColumn,
+                TaskProgressColumn,
+                TextColumn,
+                TimeElapsedColumn,
+            )
+
+            self._progress = Progress(
+                SpinnerColumn(),
+                TextColumn("{task.description}", markup=False),
+                BarColumn(),
+                TaskProgressColumn(),
+                TimeElapsedColumn(),
+                console=self.console,
+                transient=True,
+            )
+            self._progress.start()
+        return self
+
+    def __exit__(self, *exc):
+        if self._progress is not None:
+            self._progress.stop()
+            self._progress = None
+
+    @property
+    def callback(self):
+        return self if self._progress is not None else None
+
+    def __call__(self, stage: str, done: float, total: float | None = None) -> None:
+        if self._progress is None:
+            return
+        if stage not in self._tasks:
+            self._tasks[stage] = self._progress.add_task(self.labels.get(stage, stage), total=total)
+        self._progress.update(self._tasks[stage], completed=done, total=total)
+
+    def step(self, stage: str):
+        """A spinner with elapsed time around a block (completed when it ends)."""
+
+        @contextlib.contextmanager
+        def block():
+            self(stage, 0, None)
+            yield
+            self(stage, 1, 1)
+
+        return block()
 
 
 def fmt_speed(w, sweep, digits: int = 5, ref: bool = True):

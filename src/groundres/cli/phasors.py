@@ -2,19 +2,24 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import click
 
 from .common import (
-    OUT,
+    Steps,
     case_at_speed,
+    check_out,
     fail_user,
     fmt_frequency,
+    invocation,
     make_console,
+    out_option,
     output_dir,
     plain,
     ref_note,
-    status,
 )
+from .run import STAGES
 
 
 @click.command("phasors")
@@ -30,14 +35,15 @@ from .common import (
 @click.option(
     "--gif/--no-gif", default=True, help="Also write an animated mode shape per mode [default: on]."
 )
-@OUT
+@out_option("groundres-out/<case name>-phasors")
 def command(case, speed, labels, gif, out):
     """Phasor diagrams, rate phases, whirl and animated shapes of modes of CASE at one speed.
 
     Writes phasors_<mode>.png (nonrotating and rotating frames), mode_<mode>.gif,
     and phasors.csv / phasors.json with every coordinate's displacement and rate,
     the rate's lead over the displacement split into quadrature (neutral) and
-    in-phase (growth) parts, and the whirl decomposition of the rotor.
+    in-phase (growth) parts, and the whirl decomposition of the rotor (with
+    case.toml and provenance.json).
     """
     import numpy as np
 
@@ -47,41 +53,63 @@ def command(case, speed, labels, gif, out):
 
     console = make_console()
     the_case, w = case_at_speed(case, speed)
-    out_dir = output_dir(case, out)
-    with status(console, f"Analysing {the_case.title}..."):
-        result = analyze(the_case, speeds=np.union1d(the_case.sweep.speeds, [w]))
-    i = int(np.argmin(np.abs(result.rotor_speed - w)))
-    for label in labels:
-        if label not in result.labels:
-            fail_user(f"--mode {label!r}: not a mode of this case; choose from {', '.join(result.labels)}")
-    if not labels:
-        worst = result.labels[int(np.argmax(result.real_part[i]))]
-        chosen = [worst] + [lab for lab in result.labels if lab == "regressive lag" or lab.startswith("body")]
-        labels = list(dict.fromkeys(chosen))
-    speed_text = f"{speed:g} {the_case.sweep.unit}" + (
-        f" ({w / the_case.sweep.reference:.3g} ref)" if the_case.sweep.reference else ""
-    )
-    report, rows = {}, []
-    for label in labels:
-        shape = result.mode(label, w)
-        slug = label.replace(" ", "-")
-        from ..plotting.phasors import phasor_diagram
+    out_dir = output_dir(case, out, "phasors")
+    check_out(out_dir)
+    with Steps(console, STAGES) as steps, contextlib.ExitStack() as stack:
+        result = analyze(the_case, speeds=np.union1d(the_case.sweep.speeds, [w]), progress=steps.callback)
+        i = int(np.argmin(np.abs(result.rotor_speed - w)))
+        for label in labels:
+            if label not in result.labels:
+                choices = ", ".join(result.labels)
+                fail_user(f"--mode {label!r}: not a mode of this case; choose from {choices}")
+        if not labels:
+            worst = result.labels[int(np.argmax(result.real_part[i]))]
+            others = [lab for lab in result.labels if lab == "regressive lag" or lab.startswith("body")]
+            chosen = [worst] + others
+            labels = list(dict.fromkeys(chosen))
+        speed_text = f"{speed:g} {the_case.sweep.unit}" + (
+            f" ({w / the_case.sweep.reference:.3g} ref)" if the_case.sweep.reference else ""
+        )
+        report, rows = {}, []
+        folder = stack.enter_context(io.output_folder(out_dir))
+        for label in labels:
+            shape = result.mode(label, w)
+            slug = label.replace(" ", "-")
+            from ..plotting.phasors import phasor_diagram
 
-        io.write_figure(phasor_diagram(shape, speed_text=speed_text), out_dir / f"phasors_{slug}.png")
-        frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
-        for frame, items in frames.items():
-            rows += [{"mode": label, "frame": frame, **item} for item in items]
-        report[label] = _report_entry(shape, frames, the_case.sweep)
-        if gif:
-            from ..plotting.animation import mode_animation
+            with steps.step(f"Phasor diagrams of {label}"):
+                io.write_figure(phasor_diagram(shape, speed_text=speed_text), folder / f"phasors_{slug}.png")
+            frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
+            for frame, items in frames.items():
+                rows += [{"mode": label, "frame": frame, **item} for item in items]
+            report[label] = _report_entry(shape, frames, the_case.sweep)
+            if gif:
+                from ..plotting.animation import mode_animation
 
-            anim = mode_animation(shape, speed_text=speed_text)
-            with io.atomic_path(out_dir / f"mode_{slug}.gif") as tmp:
-                from matplotlib.animation import PillowWriter
+                anim = mode_animation(shape, speed_text=speed_text)
+                with io.atomic_path(folder / f"mode_{slug}.gif") as tmp:
+                    from matplotlib.animation import PillowWriter
 
-                anim.save(tmp, writer=PillowWriter(fps=15), dpi=70)
-    io.write_json(out_dir / "phasors.json", report)
-    io.write_csv(out_dir / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
+                    task = f"Animated shape of {label} [frames]"
+                    anim.save(
+                        tmp,
+                        writer=PillowWriter(fps=15),
+                        dpi=70,
+                        progress_callback=steps.callback and (lambda i, n, task=task: steps(task, i + 1, n)),
+                    )
+        io.write_json(folder / "phasors.json", report)
+        io.write_csv(folder / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
+        io.write_provenance(
+            folder,
+            the_case,
+            command="phasors",
+            method=result.method,
+            frame="nonrotating and rotating",
+            accuracy=result.accuracy,
+            rotor_speed={"value": float(result.rotor_speed[i]), "unit": "rad/s"},
+            modes=list(labels),
+            **invocation(),
+        )
     console.print(f"Modes of {plain(the_case.title)} at {plain(speed_text)}:")
     for label in labels:
         r = report[label]
@@ -97,7 +125,9 @@ def command(case, speed, labels, gif, out):
     if ref_note(the_case.sweep):
         console.print(plain(ref_note(the_case.sweep)))
     gifs = ", mode_*.gif" if gif else ""
-    console.print(f"Wrote {plain(out_dir)}/phasors_*.png{gifs}, phasors.csv, phasors.json")
+    console.print(
+        f"Wrote {plain(out_dir)}/phasors_*.png{gifs}, phasors.csv, phasors.json, case.toml, provenance.json"
+    )
 
 
 #: Units of phasors.json (SI, the data contract; the console speaks the case's unit).

@@ -212,4 +212,6 @@ def print_result(console, result, out_dir) -> None:
         console.print(
             f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad ({installed})."
         )
-    console.print(f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.png")
+    console.print(
+        f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.png, case.toml, provenance.json"
+    )

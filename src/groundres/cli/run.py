@@ -2,12 +2,29 @@
 
 from __future__ import annotations
 
-import sys
+import threading
 from pathlib import Path
 
 import click
 
-from .common import DEFAULT_CASE, OUT, load, make_console, output_dir, status
+from .common import (
+    DEFAULT_CASE,
+    OUT,
+    Steps,
+    check_out,
+    invocation,
+    load,
+    make_console,
+    output_dir,
+)
+
+#: What the progress display calls the analysis stages.
+STAGES = {
+    "sweep": "Sweep over the rotor speeds",
+    "range ends": "Ends of the unstable ranges",
+    "lag damping": "Minimum lag damping",
+    "write": "Writing results",
+}
 
 
 @click.command("run")
@@ -29,67 +46,73 @@ from .common import DEFAULT_CASE, OUT, load, make_console, output_dir, status
 def command(case, out, frame, method, damping_ratio):
     """Analyse CASE (a TOML file or a shipped case name) over its speed sweep.
 
-    Writes summary.json, modes.csv, modes.nc and coleman.png into --out. With
-    no CASE, runs the built-in default, the shipped case 'hammond-undamped'.
+    Writes summary.json, modes.csv, modes.nc, coleman.png, case.toml and
+    provenance.json into --out, replacing the folder whole. With no CASE, runs
+    the built-in default, the shipped case 'hammond-undamped'.
     """
     console = make_console()
     if case is None:
         console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
     the_case = load(case)
     out_dir = output_dir(case, out)
-    pool = _picture_process()
-    try:
-        from ..analysis import analyze
+    check_out(out_dir)
+    warm = warm_plotting()
+    from .. import io
+    from ..analysis import analyze
 
-        with status(console, f"Analysing {the_case.title}..."):
-            result = analyze(the_case, frame=frame, method=method)
-        with status(console, "Writing results..."):
-            _write_all(result, out_dir, damping_ratio, pool)
-    finally:
-        pool.shutdown(cancel_futures=True)
+    labels = dict(STAGES)
+    with Steps(console, labels) as steps:
+        result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        with steps.step("write"), io.output_folder(out_dir) as folder:
+            _write_all(result, folder, damping_ratio, warm)
+            io.write_provenance(
+                folder,
+                the_case,
+                command="run",
+                method=result.method,
+                frame=result.frame,
+                accuracy=result.accuracy,
+                **invocation(),
+            )
     _print_result(console, result, out_dir)
 
 
-def _warm_plotting() -> None:
-    """Import the plotting stack (runs in the picture process while the analysis runs)."""
-    import matplotlib
+def _import_plotting() -> None:
+    """Import the plotting stack (in a background thread while the analysis runs).
 
-    matplotlib.use("Agg")
-    import matplotlib.backends.backend_agg  # noqa: F401
-    import matplotlib.figure  # noqa: F401
+    A failure is left to the main thread, which imports the same modules again
+    when it plots and reports the error there.
+    """
+    try:
+        import matplotlib.backends.backend_agg  # noqa: F401  (figures are saved through Agg)
+        import matplotlib.figure  # noqa: F401
 
-    from ..plotting import coleman  # noqa: F401
+        from ..plotting import coleman  # noqa: F401
+    except Exception:  # noqa: BLE001, S110 - reported by the main thread's own import
+        pass
 
 
-def _render_coleman(result, path: Path, damping_ratio: bool) -> None:
+def warm_plotting() -> threading.Thread:
+    """Start importing matplotlib in a daemon thread (it cannot outlive the process).
+
+    Join it before plotting: importing the same modules from two threads at
+    once is safe, but joining keeps the order of imports simple.
+    """
+    thread = threading.Thread(target=_import_plotting, name="groundres-import-plotting", daemon=True)
+    thread.start()
+    return thread
+
+
+def _write_all(result, out_dir: Path, damping_ratio: bool, warm: threading.Thread | None = None):
+    """Write the four result files into ``out_dir`` (the picture last: its imports finish meanwhile)."""
     from .. import io
 
-    io.write_figure(result.plot(show_damping_ratio=damping_ratio), path)
-
-
-def _picture_process():
-    """A one-worker pool that starts importing matplotlib at once."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    context = multiprocessing.get_context("fork") if sys.platform.startswith("linux") else None
-    pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
-    pool.submit(_warm_plotting)
-    return pool
-
-
-def _write_all(result, out_dir: Path, damping_ratio: bool, pool=None):
-    """Write the four outputs; the picture renders in the picture process meanwhile."""
-    from .. import io
-
-    picture = pool.submit(_render_coleman, result, out_dir / "coleman.png", damping_ratio) if pool else None
     io.write_summary(result, out_dir / "summary.json")
     io.write_modes_csv(result, out_dir / "modes.csv")
     io.write_modes_netcdf(result, out_dir / "modes.nc")
-    if picture is None:
-        _render_coleman(result, out_dir / "coleman.png", damping_ratio)
-    else:
-        picture.result()
+    if warm is not None:
+        warm.join()
+    io.write_figure(result.plot(show_damping_ratio=damping_ratio), out_dir / "coleman.png")
 
 
 def _print_result(console, result, out_dir):

@@ -1,13 +1,64 @@
-"""Time history of a simulation: body motion and blade motion against time."""
+"""Time history of a simulation: growth on a log scale first, then body and blade motion.
+
+The equations are linear, so amplitudes only scale the initial disturbance:
+what a reader takes from a simulation is whether and how fast the motion
+grows. The first panel shows the amplitude envelope of every body coordinate
+and of the largest lag angle on a log scale, where growth at a rate sigma is a
+straight line exp(sigma t) from the first second on; the linear panels below
+show the motion itself.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-_UNITS = {"x": ("m", 1.0), "y": ("m", 1.0), "pitch": ("deg", 180 / np.pi), "roll": ("deg", 180 / np.pi)}
+_ANGLES = ("pitch", "roll")
 
 
-def time_history(sim, fig=None, title="", growth=None, predicted=None):
+def envelope(time, values) -> np.ndarray:
+    """Amplitude envelope of an oscillating signal, through the peaks of its magnitude.
+
+    The peaks are the samples that are the largest within a window of just
+    over one period of the signal (estimated from its zero crossings, at least
+    five samples); between them the envelope is interpolated on a log scale,
+    so it does not dip between peaks and growth at a constant rate is a
+    straight line on a log axis.
+
+    Parameters
+    ----------
+    time : ndarray (n_t,)
+        Equally spaced instants [s].
+    values : ndarray (n_t,)
+
+    Returns
+    -------
+    ndarray (n_t,)
+    """
+    from scipy.ndimage import maximum_filter1d
+
+    magnitude = np.abs(values)
+    crossings = np.count_nonzero(np.diff(np.signbit(values)))
+    span = time[-1] - time[0]
+    dt = span / max(len(time) - 1, 1)
+    period = 2 * span / crossings if crossings else span
+    size = int(np.clip(1.1 * period / dt, 5, len(time)))
+    peaks = np.flatnonzero(magnitude >= maximum_filter1d(magnitude, size=size, mode="nearest"))
+    peaks = np.unique(np.r_[0, peaks, len(time) - 1])
+    level = np.log(np.maximum(magnitude[peaks], np.finfo(float).tiny))
+    return np.exp(np.interp(time, time[peaks], level))
+
+
+def _fitted_line(time, amplitude, rate):
+    """exp(c + rate t) through ``amplitude`` over the second half of the run."""
+    late = time >= time[0] + 0.5 * (time[-1] - time[0])
+    keep = late & (amplitude > 0)
+    if not keep.any():
+        return None
+    offset = np.median(np.log(amplitude[keep]) - rate * time[keep])
+    return np.exp(offset + rate * time)
+
+
+def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_text=None):
     """Plot a :class:`~groundres.simulate.Simulation`.
 
     Parameters
@@ -16,8 +67,11 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None):
     fig : matplotlib Figure, optional
     title : str
     growth, predicted : float, optional
-        Measured growth rate and the largest Floquet/eigen real part [1/s],
-        shown in the title and as an envelope.
+        Measured growth rate and the largest Floquet/eigen real part [1/s];
+        the measured one is drawn as exp(growth t) on the log panel.
+    speed_text : str, optional
+        The rotor speed as the reader knows it (e.g. "255 rpm (1.645 ref)");
+        [rad/s] by default.
 
     Returns
     -------
@@ -26,59 +80,86 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None):
     if fig is None:
         from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(10, 7.5), layout="constrained")
-    body = [i for i, c in enumerate(sim.coordinates) if c.kind == "body"]
-    kinds = sorted({c.kind for c in sim.coordinates if c.kind != "body"}, key=["lag", "flap"].index)
-    axes = fig.subplots(2 + len(kinds), 1, sharex=True, height_ratios=[2] * (1 + len(kinds)) + [1.4])
-    log_ax, axes = axes[-1], axes[:-1]
+        fig = Figure(figsize=(10, 9), layout="constrained")
+    coords = sim.coordinates
+    body = [i for i, c in enumerate(coords) if c.kind == "body"]
+    kinds = sorted({c.kind for c in coords if c.kind != "body"}, key=["lag", "flap"].index)
+    axes = fig.subplots(2 + len(kinds), 1, sharex=True)
+    log_ax, body_ax, blade_axes = axes[0], axes[1], axes[2:]
     t = sim.time
-    ax = axes[0]
-    trans = [i for i in body if sim.coordinates[i].name in ("x", "y")]
-    tilt = [i for i in body if sim.coordinates[i].name in ("pitch", "roll")]
+    shown = sim.displacement.copy()
+    for i, c in enumerate(coords):
+        if c.kind != "body" or c.name in _ANGLES:
+            shown[:, i] = np.degrees(shown[:, i])
+
+    def unit(i):
+        return "m" if coords[i].kind == "body" and coords[i].name not in _ANGLES else "deg"
+
+    def name(i):
+        c = coords[i]
+        return f"body {c.name}" if c.kind == "body" else f"{c.kind}, blade {c.name}"
+
+    _log_panel(log_ax, t, shown, body, coords, unit, name, growth, predicted)
+
+    trans = [i for i in body if unit(i) == "m"]
+    tilt = [i for i in body if unit(i) == "deg"]
     for i in trans:
-        ax.plot(t, sim.displacement[:, i], lw=1.0, label=f"body {sim.coordinates[i].name} [m]")
-    ax.set_ylabel("body translation [m]" if trans else "")
+        body_ax.plot(t, shown[:, i], lw=1.0, label=f"{name(i)} [m]")
+    body_ax.set_ylabel("body translation [m]" if trans else "")
     if tilt:
-        ax2 = ax.twinx() if trans else ax
+        ax2 = body_ax.twinx() if trans else body_ax
         for i in tilt:
-            ax2.plot(
-                t,
-                np.degrees(sim.displacement[:, i]),
-                lw=1.0,
-                ls="--",
-                label=f"body {sim.coordinates[i].name} [deg]",
-            )
+            ax2.plot(t, shown[:, i], lw=1.0, ls="--", label=f"{name(i)} [deg]")
         ax2.set_ylabel("body rotation [deg]")
-        if ax2 is not ax:
+        if ax2 is not body_ax:
             ax2.legend(loc="upper right", fontsize=8)
-    ax.legend(loc="upper left", fontsize=8)
-    for ax, kind in zip(axes[1:], kinds):
-        for i, c in enumerate(sim.coordinates):
+    body_ax.legend(loc="upper left", fontsize=8)
+    for ax, kind in zip(blade_axes, kinds):
+        for i, c in enumerate(coords):
             if c.kind == kind:
-                ax.plot(t, np.degrees(sim.displacement[:, i]), lw=0.9, label=f"blade {c.name}")
+                ax.plot(t, shown[:, i], lw=0.9, label=f"blade {c.name}")
         ax.set_ylabel(f"{kind} angle [deg]")
         ax.legend(loc="upper left", fontsize=8, ncol=4)
-    state = np.hstack([sim.displacement, sim.velocity])
-    norm = np.linalg.norm(state / np.maximum(np.abs(state).max(0), 1e-300), axis=1)
-    log_ax.semilogy(t, norm / norm[0], color="C0", lw=0.9, label="state norm (each coordinate scaled)")
-    if predicted is not None:
-        anchor = norm[-1] / norm[0]
-        log_ax.semilogy(
-            t,
-            anchor * np.exp(predicted * (t - t[-1])),
-            ":",
-            color="0.3",
-            label=f"slope of the largest real part, {predicted:.4g} 1/s",
-        )
-    log_ax.set_ylabel("amplitude / initial [-]")
-    log_ax.legend(loc="upper left", fontsize=8)
-    for ax in (*axes, log_ax):
+    for ax in axes:
         ax.grid(True, color="0.9", lw=0.6)
-    log_ax.set_xlabel("time [s]")
-    text = f"linear model at rotor speed {sim.rotor_speed:.4g} rad/s"
+    axes[-1].set_xlabel("time [s]")
+    text = f"rotor speed {speed_text or f'{sim.rotor_speed:.4g} rad/s'}"
     if growth is not None:
-        text += f"; measured growth {growth:.4g} 1/s"
+        text += f"; measured growth rate {growth:.4g} 1/s"
     if predicted is not None:
-        text += f", largest real part {predicted:.4g} 1/s (dotted: its slope)"
+        text += f", largest real part {predicted:.4g} 1/s"
     fig.suptitle(f"{title}\n{text}", fontsize=10)
     return fig
+
+
+def _log_panel(ax, t, shown, body, coords, unit, name, growth, predicted):
+    """Envelopes of the body coordinates and of the largest lag angle, log scale, with exp(sigma t)."""
+    lag = [i for i, c in enumerate(coords) if c.kind == "lag"]
+    envelopes = {i: envelope(t, shown[:, i]) for i in body + lag}
+    if lag:
+        largest = max(lag, key=lambda i: envelopes[i][-1])
+        picked = body + [largest]
+    else:
+        largest, picked = None, body
+    top = max(envelopes[i].max() for i in picked)
+    floor = 1e-12 * top if top > 0 else 1e-300
+    for n, i in enumerate(picked):
+        label = f"{name(i)} [{unit(i)}]" + (" (largest lag)" if i == largest and len(lag) > 1 else "")
+        ax.semilogy(t, np.maximum(envelopes[i], floor), lw=1.1, color=f"C{n}", label=label)
+    rate = growth if growth is not None else predicted
+    if rate is not None and picked:
+        anchor = max(picked, key=lambda i: envelopes[i][-1])
+        line = _fitted_line(t, envelopes[anchor], rate)
+        if line is not None:
+            what = "measured" if growth is not None else "largest real part"
+            ax.semilogy(
+                t, line, ":", color="0.15", lw=1.4, label=f"exp(sigma t), sigma = {rate:.4g} 1/s ({what})"
+            )
+    ax.set_ylabel("amplitude [m or deg]")
+    ax.set_title(
+        "Amplitude envelopes, log scale. The model is linear: amplitudes scale with the initial "
+        "disturbance, only their growth matters.",
+        fontsize=9,
+        loc="left",
+    )
+    ax.legend(loc="best", fontsize=8, ncol=2)
