@@ -259,17 +259,21 @@ def output_folder(path: str | Path):
     check_output_folder(path)
     target = Path(os.path.realpath(path))
     target.parent.mkdir(parents=True, exist_ok=True)
-    fresh = Path(
-        tempfile.mkdtemp(dir=target.parent, prefix=f"{_HIDDEN}new-{os.getpid()}-", suffix=f"-{target.name}")
-    )
+    fresh = None
     try:
+        with _signals_deferred():  # an interrupt now still finds the name to remove
+            fresh = Path(
+                tempfile.mkdtemp(
+                    dir=target.parent, prefix=f"{_HIDDEN}new-{os.getpid()}-", suffix=f"-{target.name}"
+                )
+            )
         yield fresh
         os.chmod(fresh, 0o777 & ~_umask())
         with _signals_deferred(), _locked(target.parent):
             _remove_stale(target.parent)
             _swap(fresh, target, path)
     finally:
-        if fresh.exists():
+        if fresh is not None and fresh.exists():
             with _signals_deferred():
                 shutil.rmtree(fresh, ignore_errors=True)
 
