@@ -358,3 +358,18 @@ def test_simulate_estimate_is_of_the_right_size(warm):
     for speed, measured in ((255.0, 3511), (50.0, 2290)):
         estimate = simulate.estimate_steps(system, speed * rpm, 30.0)
         assert 0.9 * measured < estimate < 2 * measured, (speed, estimate)
+
+
+def test_the_order_of_body_dofs_does_not_matter(tmp_path):
+    """dofs is a subset: ["y", "x"] once crashed in the mode identification
+    ("block of 4 coordinates has labels ['body y', 'body x', 'body y', ...]")."""
+    from groundres.analysis import analyze
+
+    text = edit('dofs = ["x", "y"]', 'dofs = ["roll", "y", "x", "pitch"]\n' + PITCH_ROLL)
+    in_order = text.replace('["roll", "y", "x", "pitch"]', '["x", "y", "pitch", "roll"]')
+    ordered = load_case(write(tmp_path, in_order))
+    shuffled = load_case(write(tmp_path, text, "shuffled.toml"))
+    assert shuffled.body.dofs == ("x", "y", "pitch", "roll") and shuffled.body == ordered.body
+    a, b = analyze(shuffled), analyze(ordered)
+    assert a.labels == b.labels
+    assert (a.real_part == b.real_part).all() and a.summary()["stable"] == b.summary()["stable"]

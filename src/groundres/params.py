@@ -211,7 +211,8 @@ class Body:
     Parameters
     ----------
     dofs : tuple of str
-        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll").
+        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll"), in any
+        order; kept in that order.
     mass_x, mass_y : float
         Translating masses [kg].
     inertia_pitch, inertia_roll : float
@@ -249,6 +250,8 @@ class Body:
                 raise ParameterError("dofs", list(dofs), f"each entry must be one of {list(BODY_DOFS)}")
         if len(set(dofs)) != len(dofs):
             raise ParameterError("dofs", list(dofs), "each degree of freedom may appear once")
+        # a subset: its order carries no meaning, the model's coordinates follow BODY_DOFS
+        object.__setattr__(self, "dofs", tuple(d for d in BODY_DOFS if d in dofs))
         for d in dofs:
             _positive(self, self.inertia_key(d))
             _non_negative(self, f"stiffness_{d}", f"damping_{d}")
