@@ -8,6 +8,8 @@ is allowed; unknown keys get the nearest valid key suggested.
 from __future__ import annotations
 
 import difflib
+import re
+import sys
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -22,11 +24,19 @@ from .params import (
     ParameterError,
     Rotor,
     Sweep,
+    finite,
+    shown,
 )
 
 
 class CaseError(ValueError):
     """A case file that cannot be used, with a message fit for the user."""
+
+
+#: Largest case file read [bytes]; a case is a few kB of text.
+MAX_CASE_BYTES = 1_000_000
+#: Largest number a number key may hold: the float range.
+LARGEST_NUMBER = sys.float_info.max
 
 
 _NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
@@ -104,8 +114,12 @@ def _check_type(table: str, key: str, value, kind: str) -> None:
         _TABLES: isinstance(value, list) and all(isinstance(v, dict) for v in value),
     }[kind]
     if not ok:
-        shown = value if not isinstance(value, (dict, list)) or len(str(value)) < 60 else type(value).__name__
-        raise CaseError(f"{_where(table, key)} = {shown!r}: must be {kind}")
+        text = type(value).__name__ if isinstance(value, (dict, list)) else shown(value)
+        raise CaseError(f"{_where(table, key)} = {text}: must be {kind}")
+    if kind == _NUMBER and not finite(value):
+        raise CaseError(
+            f"{_where(table, key)} = {shown(value)}: must be a finite number, |value| <= {LARGEST_NUMBER:.4g}"
+        )
 
 
 def _check_table(table: str, data: dict) -> None:
@@ -127,7 +141,7 @@ def _build(prefix: str, factory, **kwargs):
     try:
         return factory(**kwargs)
     except ParameterError as err:
-        raise CaseError(f"{prefix}{err.key} = {err.value!r}: {err.allowed}") from None
+        raise CaseError(f"{prefix}{err.key} = {shown(err.value)}: {err.allowed}") from None
 
 
 def _rotor(data: dict) -> Rotor:
@@ -141,9 +155,11 @@ def _rotor(data: dict) -> Rotor:
         _check_table("rotor.blade", entry)
         index = entry["index"]
         if not 1 <= index <= rotor.n_blades:
-            raise CaseError(f"[[rotor.blade]] index = {index!r}: must be from 1 to blades ({rotor.n_blades})")
+            raise CaseError(
+                f"[[rotor.blade]] index = {shown(index)}: must be from 1 to blades ({rotor.n_blades})"
+            )
         if index in seen:
-            raise CaseError(f"[[rotor.blade]] index = {index!r}: each blade may be overridden once")
+            raise CaseError(f"[[rotor.blade]] index = {index}: each blade may be overridden once")
         seen.add(index)
         changes = {k: float(v) for k, v in entry.items() if k != "index"}
         merged = {**blade_data, **changes}
@@ -180,14 +196,19 @@ def _sweep(data: dict) -> Sweep:
     for key in ("start", "stop", "reference"):
         if key in data:
             kwargs[key] = float(data[key]) * factor
+    for key in ("start", "stop", "reference"):
+        if key in kwargs and not finite(kwargs[key]):
+            raise CaseError(
+                f"[sweep] {key} = {shown(data[key])}: too large to hold in rad/s ({unit} x {factor:.6g})"
+            )
     try:
         return Sweep(unit=unit, **kwargs)
     except ParameterError as err:
-        value = err.value / factor if err.key in ("start", "stop", "reference") else err.value
+        value = data.get(err.key, err.value)  # as written, in the case's unit
         allowed = err.allowed
         if err.key == "start" and "below stop" in allowed:
             allowed = f"must be below stop ({data['stop']!r})"
-        raise CaseError(f"[sweep] {err.key} = {value!r}: {allowed}") from None
+        raise CaseError(f"[sweep] {err.key} = {shown(value)}: {allowed}") from None
 
 
 def parse_case(data: dict, source: str = "", text: str = "") -> Case:
@@ -199,7 +220,9 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
         With a one-line message naming the key, the value and what is allowed.
     """
     _check_table("", data)
-    return Case(
+    return _build(
+        "[sweep] ",  # the one check of the whole case is the size of the sweep
+        Case,
         rotor=_rotor(data["rotor"]),
         body=_body(data["body"]),
         sweep=_sweep(data["sweep"]),
@@ -229,19 +252,72 @@ def load_case(path_or_name: str | Path) -> Case:
         If the file is missing, is not valid TOML, or breaks the format.
     """
     path = Path(path_or_name)
-    if path.is_file():
-        # bytes decoded as they are (no newline translation): outputs keep the exact text
-        text, source = path.read_bytes().decode("utf-8"), str(path)
+    try:
+        is_file = path.is_file()
+    except (OSError, ValueError) as err:  # a name too long, a NUL byte
+        reason = getattr(err, "strerror", None) or err
+        raise CaseError(f"case {shown(str(path_or_name))}: not a usable file name ({reason})") from None
+    if is_file:
+        text, source = _read_text(path), str(path)
     else:
         shipped = shipped_cases()
         name = str(path_or_name).removesuffix(".toml")
         if name not in shipped:
             near = difflib.get_close_matches(name, shipped, n=1, cutoff=0.5)
             hint = f"; did you mean the shipped case '{near[0]}'?" if near else "; see `groundres cases`"
-            raise CaseError(f"case {str(path_or_name)!r}: no such file or shipped case{hint}")
+            what = "a folder, not a case file" if path.is_dir() else "no such file or shipped case"
+            raise CaseError(f"case {shown(str(path_or_name))}: {what}{hint}")
         text, source = shipped[name], name
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise CaseError(f"{source}: not valid TOML: {err}") from None
-    return parse_case(data, source, text)
+    except RecursionError:
+        raise CaseError(f"{source}: arrays or tables nested too deeply to read") from None
+    except ValueError:  # a whole number too long to convert (over 4300 digits)
+        raise CaseError(f"{source}: {_too_long_number(text)}") from None
+    try:
+        return parse_case(data, source, text)
+    except RecursionError:
+        raise CaseError(f"{source}: arrays or tables nested too deeply to read") from None
+
+
+_UNICODE_MARKS = {
+    b"\xff\xfe\x00\x00": "UTF-32",
+    b"\x00\x00\xfe\xff": "UTF-32",
+    b"\xff\xfe": "UTF-16",
+    b"\xfe\xff": "UTF-16",
+}
+
+
+def _read_text(path: Path) -> str:
+    """The text of a case file: UTF-8 (a leading byte-order mark is dropped), at most MAX_CASE_BYTES."""
+    try:
+        with path.open("rb") as f:
+            raw = f.read(MAX_CASE_BYTES + 1)
+    except OSError as err:
+        raise CaseError(f"{path}: cannot be read ({err.strerror or err})") from None
+    if len(raw) > MAX_CASE_BYTES:
+        raise CaseError(f"{path}: larger than {MAX_CASE_BYTES} bytes, which no case file needs")
+    not_text = f"{path}: not a UTF-8 TOML text file"
+    for mark, name in _UNICODE_MARKS.items():
+        if raw.startswith(mark):
+            raise CaseError(f"{not_text} (it is {name}; save it as UTF-8)")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = raw[: err.start].count(b"\n") + 1
+        raise CaseError(f"{not_text} (byte 0x{raw[err.start]:02x} on line {line} is not UTF-8)") from None
+    if "\x00" in text:
+        raise CaseError(f"{not_text} (it holds NUL bytes: a binary file?)")
+    return text
+
+
+def _too_long_number(text: str) -> str:
+    """The message for a whole number too long for Python to read, naming its key if it can."""
+    found = re.search(r"^\s*([\w.\"'-]+)\s*=\s*[+-]?\d[\d_]{4000,}", text, re.MULTILINE)
+    where = f"{found.group(1)} = " if found else "a value "
+    return (
+        f"{where}<a whole number of over 4000 digits>: must be a finite number, "
+        f"|value| <= {LARGEST_NUMBER:.4g}"
+    )

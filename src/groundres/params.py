@@ -16,6 +16,38 @@ SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 FRAMES = ("nonrotating", "rotating")
 METHODS = ("auto", "eigen", "floquet")
 
+#: Most blades a rotor may have (docs/case-files.md, "Limits").
+MAX_BLADES = 32
+#: Most speeds a sweep may have.
+MAX_POINTS = 100_000
+#: Most values points x (2 n)^2 of a sweep's state matrices (n coordinates):
+#: an eigen-analysis holds about 60 bytes per value, so this bounds it near 1.2 GB.
+MAX_SWEEP_VALUES = 20_000_000
+
+
+def shown(value) -> str:
+    """``repr(value)`` fit for a one-line message: long whole numbers and texts shortened."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        digits = math.floor(abs(value).bit_length() * math.log10(2)) + 1 if value else 1
+        if digits > 20:
+            if digits > 4000:  # too long to convert to text at all
+                return f"{'-' if value < 0 else ''}<a whole number of about {digits} digits>"
+            text = str(value)
+            return f"{text[:8]}...{text[-4:]} ({len(text.lstrip('-'))} digits)"
+        return repr(value)
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
+
+
+def finite(value) -> bool:
+    """Whether ``value`` is a number (not a bool) that a float holds finitely."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # a whole number beyond the float range
+        return False
+
 
 class ParameterError(ValueError):
     """A parameter value outside what the model allows.
@@ -32,7 +64,7 @@ class ParameterError(ValueError):
 
     def __init__(self, key: str, value, allowed: str):
         self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"{key} = {value!r}: {allowed}")
+        super().__init__(f"{key} = {shown(value)}: {allowed}")
 
     def under(self, prefix: str) -> ParameterError:
         """The same error with its key placed under a table name."""
@@ -42,14 +74,14 @@ class ParameterError(ValueError):
 def _positive(obj, *names):
     for name in names:
         value = getattr(obj, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        if not (finite(value) and value > 0):
             raise ParameterError(name, value, "must be a finite number > 0")
 
 
 def _non_negative(obj, *names):
     for name in names:
         value = getattr(obj, name)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+        if not (finite(value) and value >= 0):
             raise ParameterError(name, value, "must be a finite number >= 0")
 
 
@@ -94,12 +126,13 @@ class Blade:
             "flap_damping",
         )
         s, m, i = self.blade_static_moment, self.blade_mass, self.blade_inertia
-        if s * s > m * i * (1 + 1e-12):
+        # S^2 <= m I, compared in logarithms so that no product over- or underflows
+        if s > 0 and 2 * math.log(s) > math.log(m) + math.log(i) + 1e-12:
             raise ParameterError(
                 "blade_static_moment",
                 s,
                 f"S^2 <= blade_mass * blade_inertia must hold for a real blade "
-                f"(here S^2 = {s * s:.6g} > m I = {m * i:.6g})",
+                f"(here S^2 = {float(s) * float(s):.6g} > m I = {float(m) * float(i):.6g})",
             )
 
     def lag_frequency(self, rotor_speed):
@@ -141,14 +174,14 @@ class Rotor:
     flap: bool = False
 
     def __post_init__(self):
-        if len(self.blades) < 2:
-            raise ParameterError("blades", len(self.blades), "a rotor needs at least 2 blades")
+        if not 2 <= len(self.blades) <= MAX_BLADES:
+            raise ParameterError("blades", len(self.blades), f"a rotor needs 2 to {MAX_BLADES} blades")
 
     @classmethod
     def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> Rotor:
-        """A rotor of ``n_blades`` identical blades."""
-        if isinstance(n_blades, bool) or not isinstance(n_blades, int) or n_blades < 2:
-            raise ParameterError("blades", n_blades, "must be a whole number >= 2")
+        """A rotor of ``n_blades`` identical blades (2 to ``MAX_BLADES``)."""
+        if isinstance(n_blades, bool) or not isinstance(n_blades, int) or not 2 <= n_blades <= MAX_BLADES:
+            raise ParameterError("blades", n_blades, f"must be a whole number from 2 to {MAX_BLADES}")
         return cls((blade,) * n_blades, flap)
 
     @property
@@ -178,7 +211,8 @@ class Body:
     Parameters
     ----------
     dofs : tuple of str
-        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll").
+        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll"), in any
+        order; kept in that order.
     mass_x, mass_y : float
         Translating masses [kg].
     inertia_pitch, inertia_roll : float
@@ -216,12 +250,14 @@ class Body:
                 raise ParameterError("dofs", list(dofs), f"each entry must be one of {list(BODY_DOFS)}")
         if len(set(dofs)) != len(dofs):
             raise ParameterError("dofs", list(dofs), "each degree of freedom may appear once")
+        # a subset: its order carries no meaning, the model's coordinates follow BODY_DOFS
+        object.__setattr__(self, "dofs", tuple(d for d in BODY_DOFS if d in dofs))
         for d in dofs:
             _positive(self, self.inertia_key(d))
             _non_negative(self, f"stiffness_{d}", f"damping_{d}")
         if {"pitch", "roll"} & set(dofs):
             h = self.hub_height
-            if not (isinstance(h, (int, float)) and math.isfinite(h)):
+            if not finite(h):
                 raise ParameterError("hub_height", h, "must be a finite number [m]")
 
     @staticmethod
@@ -266,7 +302,7 @@ class Sweep:
     start, stop : float
         Rotor speed range [rad/s], 0 <= start < stop.
     points : int
-        Number of equally spaced speeds, >= 2.
+        Number of equally spaced speeds, 2 to ``MAX_POINTS``.
     unit : str
         Unit used in the case file and on plot axes ("rad/s", "rpm", "Hz").
     reference : float or None
@@ -290,8 +326,9 @@ class Sweep:
         _positive(self, "stop")
         if self.start >= self.stop:
             raise ParameterError("start", self.start, f"must be below stop ({self.stop})")
-        if isinstance(self.points, bool) or not isinstance(self.points, int) or self.points < 2:
-            raise ParameterError("points", self.points, "must be a whole number >= 2")
+        p = self.points
+        if isinstance(p, bool) or not isinstance(p, int) or not 2 <= p <= MAX_POINTS:
+            raise ParameterError("points", p, f"must be a whole number from 2 to {MAX_POINTS}")
         for key, allowed in (("unit", SPEED_UNITS), ("frame", FRAMES), ("method", METHODS)):
             if getattr(self, key) not in allowed:
                 raise ParameterError(key, getattr(self, key), f"must be one of {list(allowed)}")
@@ -325,3 +362,14 @@ class Case:
     description: str = ""
     source: str = field(default="", compare=False)
     text: str = field(default="", compare=False, repr=False)
+
+    def __post_init__(self):
+        n = len(self.body.dofs) + self.rotor.n_blades * (2 if self.rotor.flap else 1)
+        limit = MAX_SWEEP_VALUES // (2 * n) ** 2
+        if self.sweep.points > limit:
+            raise ParameterError(
+                "points",
+                self.sweep.points,
+                f"at most {limit} speeds for this model ({n} coordinates; a sweep holds "
+                f"points x (2 x {n})^2 <= {MAX_SWEEP_VALUES:.0e} values, about 1.2 GB)",
+            )

@@ -153,3 +153,48 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
             raise KeyError(f"{key!r}: not a coordinate; use one of {', '.join(names)} (or NAME_rate)")
         (v0 if rate else q0)[names.index(base)] = value
     return q0, v0
+
+
+#: Steps per period of the fastest motion that DOP853 takes at the default
+#: tolerance: 14 to 26 measured on the shipped cases; the larger, rounded, is
+#: used to estimate.
+STEPS_PER_PERIOD = 25
+#: Most integration steps a simulation may be estimated to need (a few
+#: minutes at a few milliseconds a step; docs/case-files.md, "Limits").
+MAX_STEPS = 100_000
+#: Fewest revolutions a run needs for its growth rate: sampled once a
+#: revolution over the second half, it needs at least three samples there.
+MIN_REVOLUTIONS = 6
+#: Largest coefficient of M, C, K the integration takes: its error estimates
+#: square such values, which must stay inside the floating-point range.
+LARGEST_COEFFICIENT = 1e150
+
+
+def fastest_rate(system: System, speed: float, probes: int = 8) -> float:
+    """Fastest rate [rad/s] the integration follows at rotor speed ``speed`` [rad/s].
+
+    The largest magnitude of the roots of the equations frozen at a few
+    azimuths, or twice the rotor speed (the harmonic of the coefficients),
+    whichever is larger; ``inf`` where a coefficient exceeds ``LARGEST_COEFFICIENT``.
+    """
+    with np.errstate(all="ignore"):
+        mats = harmonic_matrices(system, speed)
+        if not np.abs(mats).max() <= LARGEST_COEFFICIENT:  # (also catches nan)
+            return float("inf")
+        n, fastest = system.size, 2.0 * speed
+        for a in 2 * np.pi * np.arange(probes) / probes:
+            w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
+            m, c, k = np.tensordot(w, mats, axes=(0, 1))
+            state = np.block(
+                [[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]]
+            )
+            if not np.isfinite(state).all():
+                return float("inf")
+            fastest = max(fastest, float(np.abs(np.linalg.eigvals(state)).max()))
+    return fastest
+
+
+def estimate_steps(system: System, speed: float, duration: float) -> float:
+    """Integration steps :func:`simulate` is expected to take over ``duration`` [s] (``inf`` if unbounded)."""
+    with np.errstate(all="ignore"):
+        return float(duration * fastest_rate(system, speed) / (2 * np.pi) * STEPS_PER_PERIOD)

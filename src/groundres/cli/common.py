@@ -74,12 +74,18 @@ def invocation() -> dict:
 
 def case_at_speed(case: str | None, speed: float):
     """The case and a --speed (in the case's unit) in rad/s."""
+    import math
+
     from ..params import SPEED_UNITS
 
     the_case = load(case)
-    if not speed > 0:
-        fail_user(f"--speed = {speed!r}: must be > 0 (in {the_case.sweep.unit})")
-    return the_case, speed * SPEED_UNITS[the_case.sweep.unit]
+    unit = the_case.sweep.unit
+    if not (math.isfinite(speed) and speed > 0):
+        fail_user(f"--speed = {speed!r}: must be a finite number > 0 (in {unit}, the case's unit)")
+    w = speed * SPEED_UNITS[unit]
+    if not (math.isfinite(w) and w > 0):
+        fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
+    return the_case, w
 
 
 def load(case: str | None):

@@ -37,6 +37,8 @@ def command(case, speed, duration, initial, out):
     case.toml and provenance.json), and compares the measured growth rate
     with the largest real part from the eigen- or Floquet analysis.
     """
+    import math
+
     import numpy as np
 
     from .. import io
@@ -48,26 +50,16 @@ def command(case, speed, duration, initial, out):
     from ..system import System
 
     console = make_console()
+    if duration is not None and not (math.isfinite(duration) and duration > 0):
+        fail_user(f"--time = {duration!r}: must be a finite number > 0 [s]")
+    values = _initial_values(initial)
     the_case, w = case_at_speed(case, speed)
-    duration = duration or 40 * 2 * np.pi / w
-    if not duration > 0:
-        fail_user(f"--time = {duration!r}: must be > 0 [s]")
     system = System(the_case.rotor, the_case.body)
-    values = {}
-    for item in initial:
-        key, sep, value = item.partition("=")
-        try:
-            values[key.strip()] = float(value)
-        except ValueError:
-            fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
-        if not sep:
-            fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
-    if not values:
-        values = {d: 0.01 for d in the_case.body.dofs} | {"lag1": 0.01}
     try:
-        q0, v0 = sim_module.initial_state(system, values)
+        q0, v0 = sim_module.initial_state(system, values or _default_initial(the_case))
     except KeyError as err:
         fail_user(f"--initial {err.args[0]}")
+    duration = _checked_duration(system, the_case.sweep.unit, speed, w, duration)
     out_dir = output_dir(case, out, "simulate")
     check_out(out_dir)
     labels = {
@@ -128,3 +120,78 @@ def command(case, speed, duration, initial, out):
             f" ({100 * (growth - predicted) / abs(predicted):+.3f} %)."
         )
     console.print(f"Wrote {plain(out_dir)}/simulation.png, simulation.csv, case.toml, provenance.json")
+
+
+def _default_initial(case) -> dict:
+    return {d: 0.01 for d in case.body.dofs} | {"lag1": 0.01}
+
+
+def _checked_duration(system, unit: str, speed: float, w: float, duration: float | None) -> float:
+    """--time (None: 40 revolutions) once it is long enough to measure growth and short enough to run.
+
+    The integration steps are estimated before integrating (:func:`groundres.simulate.estimate_steps`)
+    and a run over :data:`groundres.simulate.MAX_STEPS` is refused, saying what to change.
+    """
+    import math
+
+    from .. import simulate as sim_module
+
+    revolution = 2 * math.pi / w
+    at_speed = f"at {speed:g} {unit}"
+    if not math.isfinite(40 * revolution):
+        fail_user(f"--speed = {speed!r}: too slow to simulate (a revolution would last {revolution:.3g} s)")
+    shortest = sim_module.MIN_REVOLUTIONS * revolution
+    if duration is not None and duration < shortest:
+        fail_user(
+            f"--time = {duration!r}: must be at least {sim_module.MIN_REVOLUTIONS} revolutions "
+            f"({shortest:.4g} s {at_speed}), over whose second half the growth rate is measured"
+        )
+    default = duration is None
+    duration = 40 * revolution if default else duration
+    rate = sim_module.fastest_rate(system, w)
+    if not math.isfinite(rate):
+        fail_user(
+            f"--speed = {speed!r} {unit}: too fast to simulate: the equations' coefficients, which "
+            f"grow as the speed squared, exceed {sim_module.LARGEST_COEFFICIENT:.0e} (the integration "
+            "squares them)"
+        )
+    per_second = rate / (2 * math.pi) * sim_module.STEPS_PER_PERIOD
+    steps = sim_module.estimate_steps(system, w, duration)
+    if steps > sim_module.MAX_STEPS:
+        longest = sim_module.MAX_STEPS / per_second
+        if longest >= shortest:
+            advice = f"choose --time of at most {longest:.4g} s"
+        else:
+            advice = (
+                f"no --time fits {at_speed}: even the shortest run that measures a growth rate "
+                f"({sim_module.MIN_REVOLUTIONS} revolutions, {shortest:.4g} s) is too long; "
+                "choose a higher --speed"
+            )
+        fail_user(
+            f"--time = {duration:.4g} s{' (the default, 40 revolutions)' if default else ''} {at_speed}: "
+            f"the simulation would take about {steps:.2g} integration steps (fastest motion "
+            f"{rate:.4g} rad/s, about {sim_module.STEPS_PER_PERIOD} steps a period), over the limit "
+            f"of {sim_module.MAX_STEPS}; {advice}"
+        )
+    return duration
+
+
+def _initial_values(items) -> dict:
+    """--initial NAME=VALUE options as a dict; names are checked against the model later."""
+    import math
+
+    values = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            number = None
+        if not sep or not key.strip() or number is None:
+            fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
+        if not math.isfinite(number):
+            fail_user(f"--initial {item!r}: the value must be a finite number")
+        values[key.strip()] = number
+    if values and not any(values.values()):
+        fail_user(f"--initial {' '.join(items)!r}: every value is zero, so nothing would move")
+    return values
