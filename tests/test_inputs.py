@@ -373,3 +373,12 @@ def test_the_order_of_body_dofs_does_not_matter(tmp_path):
     a, b = analyze(shuffled), analyze(ordered)
     assert a.labels == b.labels
     assert (a.real_part == b.real_part).all() and a.summary()["stable"] == b.summary()["stable"]
+
+
+@pytest.mark.parametrize(
+    "line", ["a" + ".b" * 100_000 + " = 1", "[" + ".".join(["c"] * 100_000) + "]", '"q".' * 40 + "z = 1"]
+)
+def test_keys_of_many_dotted_parts_are_refused_before_reading(tmp_path, line):
+    """The TOML reader takes a time quadratic in a key's parts (100000 parts: minutes)."""
+    result, elapsed = run("run", write(tmp_path, GOOD + line + "\n"))
+    assert_refused(result, elapsed, f"line {GOOD.count(chr(10)) + 1}", "over 32 dotted parts")

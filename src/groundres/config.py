@@ -268,6 +268,10 @@ def load_case(path_or_name: str | Path) -> Case:
             what = "a folder, not a case file" if path.is_dir() else "no such file or shipped case"
             raise CaseError(f"case {shown(str(path_or_name))}: {what}{hint}")
         text, source = shipped[name], name
+    long_key = _LONG_KEY.search(text)
+    if long_key:  # (the TOML reader takes a time quadratic in the parts of a key)
+        line = text.count("\n", 0, long_key.start()) + 1
+        raise CaseError(f"{source}: the key on line {line} has over {MAX_KEY_PARTS} dotted parts")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
@@ -281,6 +285,13 @@ def load_case(path_or_name: str | Path) -> Case:
     except RecursionError:
         raise CaseError(f"{source}: arrays or tables nested too deeply to read") from None
 
+
+#: Most dotted parts of a key or table name (the format needs two: rotor.blade).
+MAX_KEY_PARTS = 32
+_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\\n]|\\.)*"|'[^'\n]*')"""
+_LONG_KEY = re.compile(
+    rf"^[ \t]*\[{{0,2}}[ \t]*(?:{_KEY_PART}[ \t]*\.[ \t]*){{{MAX_KEY_PARTS},}}", re.MULTILINE
+)
 
 _UNICODE_MARKS = {
     b"\xff\xfe\x00\x00": "UTF-32",
