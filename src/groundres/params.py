@@ -13,6 +13,8 @@ import numpy as np
 
 BODY_DOFS = ("x", "y", "pitch", "roll")
 SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
+#: How a frequency reads in a case whose speeds are in each unit (rpm: cycles/min).
+FREQUENCY_UNITS = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
 FRAMES = ("nonrotating", "rotating")
 METHODS = ("auto", "eigen", "floquet")
 
@@ -212,7 +214,7 @@ class Body:
     ----------
     dofs : tuple of str
         Body degrees of freedom, a subset of ("x", "y", "pitch", "roll"), in any
-        order; kept in that order.
+        order; stored in that order of BODY_DOFS (the model's coordinates).
     mass_x, mass_y : float
         Translating masses [kg].
     inertia_pitch, inertia_roll : float

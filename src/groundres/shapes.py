@@ -155,9 +155,9 @@ class ModeShape:
     @property
     def neutral(self) -> bool:
         """Real part within the growth threshold of zero (round-off: neither grows nor decays)."""
-        from .stability import growth_threshold
+        from .stability import is_neutral
 
-        return abs(self.eigenvalue.real) <= growth_threshold(self.rotor_speed)
+        return bool(is_neutral(self.eigenvalue.real, self.rotor_speed))
 
     @property
     def vector(self) -> np.ndarray:

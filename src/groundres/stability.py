@@ -42,6 +42,12 @@ def growth_threshold(speeds):
     return GROWTH_PER_RADIAN * np.asarray(speeds, dtype=float) + GROWTH_FLOOR
 
 
+def is_neutral(real_part, speeds):
+    """Whether real parts [1/s] at ``speeds`` [rad/s] are round-off: |real part|
+    at or below the growth threshold (neither growth nor decay)."""
+    return np.abs(real_part) <= growth_threshold(speeds)
+
+
 def _below(speeds, i):
     """The lower end of a search below grid point i: the previous speed, or half of
     this one where the previous is the rotor at rest."""

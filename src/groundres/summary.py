@@ -12,7 +12,14 @@ import math
 import numpy as np
 
 from ._version import __version__
-from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, DeutschEntry, growth_threshold, installed_lag_damping
+from .stability import (
+    GROWTH_FLOOR,
+    GROWTH_PER_RADIAN,
+    DeutschEntry,
+    growth_threshold,
+    installed_lag_damping,
+    is_neutral,
+)
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -49,12 +56,6 @@ def put(out: dict, key: str, value, reason: str) -> dict:
     if out[key] is None:
         out[f"{key}_reason"] = reason
     return out
-
-
-def neutral(value, speed) -> bool:
-    """Whether a real part [1/s] at ``speed`` [rad/s] is round-off: |value| at or
-    below the growth threshold (:func:`groundres.stability.growth_threshold`)."""
-    return bool(abs(value) <= growth_threshold(speed))
 
 
 def summary(result) -> dict:
@@ -135,7 +136,7 @@ def _max_real_part(result) -> dict:
     put(out, "speed", at, "no finite real part in the sweep")
     out["mode"] = result._mode_at(at, result.real_part)
     out["growth_threshold"] = float(growth_threshold(at))
-    out["neutral"] = math.isfinite(value) and neutral(value, at)
+    out["neutral"] = math.isfinite(value) and bool(is_neutral(value, at))
     return out
 
 
@@ -149,7 +150,7 @@ def _min_damping_ratio(result) -> dict:
     # neutral: the root's real part, -ratio |lambda|, within the growth threshold
     i = int(np.argmin(np.abs(result.rotor_speed - at)))
     size = abs(result.modes.eigenvalue[i, result.labels.index(out["mode"])])
-    out["neutral"] = math.isfinite(value) and neutral(value * size, at)
+    out["neutral"] = math.isfinite(value) and bool(is_neutral(value * size, at))
     return out
 
 

@@ -42,7 +42,7 @@ class _Group(click.Group):
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from ..analysis import MethodError
             from ..config import CaseError
-            from ..io import OutputFolderError
+            from ..folders import OutputFolderError
             from ..transition import SpeedRangeError
 
             if isinstance(err, (CaseError, MethodError, SpeedRangeError, OutputFolderError)):

@@ -58,7 +58,7 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
 
 def check_out(path: Path) -> None:
     """Refuse, before any work, an output folder that holds files groundres did not write."""
-    from ..io import OutputFolderError, check_output_folder
+    from ..folders import OutputFolderError, check_output_folder
 
     try:
         check_output_folder(path)
@@ -119,9 +119,7 @@ def make_console():
 
 
 def status(console, text):
-    """A spinner while something slow runs (only on a terminal)."""
-    import contextlib
-
+    """A spinner while something slow runs (only on a terminal), its text shown literally."""
     if console.is_terminal:
         from rich.text import Text
 
@@ -194,23 +192,20 @@ class Steps:
         return block()
 
 
-def fmt_speed(w, sweep, digits: int = 5, ref: bool = True):
-    """A speed [rad/s] in the case's unit, with its ratio to the reference ("ref")."""
+def fmt_speed(w, sweep, digits: int = 5, ref: bool = True, unit: bool = True, sep: str = " "):
+    """A speed [rad/s] in the case's unit (``unit``: its name too), with its ratio
+    to the reference ("ref") after ``sep``."""
     from ..params import SPEED_UNITS
 
-    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g} {sweep.unit}"
+    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g}" + (f" {sweep.unit}" if unit else "")
     if ref and sweep.reference:
-        text += f" ({w / sweep.reference:.4g} ref)"
+        text += f"{sep}({w / sweep.reference:.4g} ref)"
     return text
-
-
-#: How a frequency reads in a case whose speeds are in each unit (as on the Coleman diagram).
-FREQUENCY_UNITS = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
 
 
 def fmt_frequency(w, sweep, digits: int = 4):
     """A frequency [rad/s] in the case's unit (cycles/min for rpm), rad/s beside it."""
-    from ..params import SPEED_UNITS
+    from ..params import FREQUENCY_UNITS, SPEED_UNITS
 
     text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g} {FREQUENCY_UNITS[sweep.unit]}"
     return text if sweep.unit == "rad/s" else f"{text} ({w:.{digits}g} rad/s)"

@@ -47,7 +47,7 @@ def command(case, speed, labels, gif, out):
     """
     import numpy as np
 
-    from .. import io
+    from .. import folders, io
     from ..analysis import analyze
     from ..shapes import phasor_header
 
@@ -71,7 +71,7 @@ def command(case, speed, labels, gif, out):
             f" ({w / the_case.sweep.reference:.3g} ref)" if the_case.sweep.reference else ""
         )
         report, rows = {}, []
-        folder = stack.enter_context(io.output_folder(out_dir))
+        folder = stack.enter_context(folders.output_folder(out_dir))
         for label in labels:
             shape = result.mode(label, w)
             slug = label.replace(" ", "-")
@@ -99,7 +99,7 @@ def command(case, speed, labels, gif, out):
                     )
         io.write_json(folder / "phasors.json", report)
         io.write_csv(folder / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
-        io.write_provenance(
+        folders.write_provenance(
             folder,
             the_case,
             command="phasors",

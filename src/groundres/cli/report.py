@@ -8,7 +8,8 @@ values within the growth threshold of zero print as neutral, not as numbers
 
 from __future__ import annotations
 
-from .common import FREQUENCY_UNITS, fmt_speed, plain, ref_note
+from ..params import FREQUENCY_UNITS
+from .common import fmt_speed, plain, ref_note
 
 
 def simple_table(title: str):
@@ -63,10 +64,7 @@ def unstable_table(summary: dict, sweep):
 
 def _speed_cell(w, sweep, digits=5, sep=" ") -> str:
     """A speed in a column headed with the unit: the number, and its ratio to the reference."""
-    from ..params import SPEED_UNITS
-
-    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g}"
-    return text + (f"{sep}({w / sweep.reference:.4g} ref)" if sweep.reference else "")
+    return fmt_speed(w, sweep, digits, unit=False, sep=sep)
 
 
 def _verdict(e: dict) -> str:

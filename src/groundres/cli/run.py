@@ -57,15 +57,15 @@ def command(case, out, frame, method, damping_ratio):
     out_dir = output_dir(case, out)
     check_out(out_dir)
     warm = warm_plotting()
-    from .. import io
+    from .. import folders
     from ..analysis import analyze
+    from .report import print_result
 
-    labels = dict(STAGES)
-    with Steps(console, labels) as steps:
+    with Steps(console, STAGES) as steps:
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
-        with steps.step("write"), io.output_folder(out_dir) as folder:
+        with steps.step("write"), folders.output_folder(out_dir) as folder:
             _write_all(result, folder, damping_ratio, warm)
-            io.write_provenance(
+            folders.write_provenance(
                 folder,
                 the_case,
                 command="run",
@@ -74,7 +74,7 @@ def command(case, out, frame, method, damping_ratio):
                 accuracy=result.accuracy,
                 **invocation(),
             )
-    _print_result(console, result, out_dir)
+    print_result(console, result, out_dir)
 
 
 def _import_plotting() -> None:
@@ -113,9 +113,3 @@ def _write_all(result, out_dir: Path, damping_ratio: bool, warm: threading.Threa
     if warm is not None:
         warm.join()
     io.write_figure(result.plot(show_damping_ratio=damping_ratio), out_dir / "coleman.png")
-
-
-def _print_result(console, result, out_dir):
-    from .report import print_result
-
-    print_result(console, result, out_dir)

@@ -41,12 +41,12 @@ def command(case, speed, duration, initial, out):
 
     import numpy as np
 
-    from .. import io
+    from .. import folders, io
     from .. import simulate as sim_module
     from ..analysis import METHOD_NAMES, choose_method, root_solver
     from ..dataset import coordinate_unit
     from ..plotting.timehistory import time_history
-    from ..stability import growth_threshold
+    from ..stability import is_neutral
     from ..system import System
 
     console = make_console()
@@ -75,7 +75,7 @@ def command(case, speed, duration, initial, out):
         method = choose_method(the_case)
         with steps.step("roots"):
             predicted = float(root_solver(the_case, method).roots(w).real.max())
-        with steps.step("write"), io.output_folder(out_dir) as folder:
+        with steps.step("write"), folders.output_folder(out_dir) as folder:
             fig = time_history(
                 sim,
                 title=the_case.title,
@@ -89,7 +89,7 @@ def command(case, speed, duration, initial, out):
                 for c in sim.coordinates
             ]
             io.write_csv(folder / "simulation.csv", header, np.column_stack([sim.time, sim.displacement]))
-            io.write_provenance(
+            folders.write_provenance(
                 folder,
                 the_case,
                 command="simulate",
@@ -109,7 +109,7 @@ def command(case, speed, duration, initial, out):
                 initial=dict(values),
                 **invocation(),
             )
-    if abs(predicted) <= growth_threshold(w):  # round-off: the analysis says neutral
+    if is_neutral(predicted, w):  # round-off: the analysis says neutral
         console.print(
             f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) 0 1/s (neutral: "
             "within the growth threshold of zero)."

@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..params import SPEED_UNITS
+from ..params import FREQUENCY_UNITS, SPEED_UNITS
 from ..stability import growth_threshold
 
-_FREQ_UNIT = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
 _COLOURS = {
     "body x": "#222222",
     "body y": "#7f7f7f",
@@ -213,7 +212,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     freq = result.frequency / factor
     lower = result.damping_ratio if show_damping_ratio else result.real_part
     normalised = unit == "-"
-    f_unit = "-" if normalised else _FREQ_UNIT[unit]
+    f_unit = "-" if normalised else FREQUENCY_UNITS[unit]
     modes = result.modes
     grows = result.real_part > growth_threshold(result.rotor_speed)[:, None]
     finite = lower[np.isfinite(lower)]
