@@ -322,7 +322,6 @@ def solve(
         full = 2 * (order + harmonics) + 2  # samples over a revolution
         return divisor_at_least(count, max(-(-full // n_sym), 4))
 
-
     def accept(sel, phi, parts, count):
         idx = moving[sel]
         w = speeds[idx]

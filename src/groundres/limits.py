@@ -25,7 +25,8 @@ that the mass matrix has a unit diagonal.
 
 **Work.** A Floquet analysis integrates one period per speed; the step count
 grows as the fastest rate per radian, so as 1/Omega at low speed, and the
-cost of a step as the square of the state size (measured: 12 to 44 states).
+cost of a step as the square of the state size (measured: 12 to 44 states),
+five times more where a period's grid is too fine to keep (low speeds).
 :func:`floquet_work` estimates it before the integration starts, and
 :func:`check_floquet_work` refuses a sweep above :data:`FLOQUET_WORK_LIMIT`
 with the estimate and what to change.
@@ -46,8 +47,9 @@ ROUND_OFF = 10.0
 #: Inertias inside 2^+-MASS_RANGE are used as given; outside, a mass unit is used.
 MASS_RANGE = 200
 #: Estimated Floquet work above which an analysis is refused, in steps of a
-#: 12-state system (0.01 to 0.15 ms each on two laptop cores: a minute or two).
-FLOQUET_WORK_LIMIT = 1e6
+#: 12-state system (0.005 to 0.3 ms each on two laptop cores, the estimate
+#: being an upper bound: at most a few minutes).
+FLOQUET_WORK_LIMIT = 2e6
 #: State size of the work unit.
 _WORK_STATE = 12
 #: Work units per flop-cube of a nonsymmetric eigenvalue problem (measured: a
@@ -144,7 +146,7 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float) -> list[RateSource]
             out.append(
                 RateSource(f"[rotor] {kind}_stiffness{where}", s, "N m/rad", 2, i, f"sqrt(K/I) {what}", False)
             )
-        if b.blade_static_moment > 0:
+        if b.blade_static_moment > 0 and top_speed > 0:
             coef = i / (top_speed**2 * b.blade_static_moment)
             out.append(
                 RateSource(
@@ -259,9 +261,8 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> Non
     if worst.rate >= 0.1 * rate and worst.rate > 0:
         head = f"{worst.key} = {worst.value:.6g} {worst.unit}: it sets a rate of {worst.rate:.3g} 1/s"
         head += f" ({worst.what})"
-        limit = (
-            f"; this case resolves {worst.key} up to about {worst.value_at(allowed[end]):.3g} {worst.unit}"
-        )
+        name = worst.key.split("] ")[-1]
+        limit = f"; allowed here: {name} up to about {worst.value_at(allowed[end]):.3g} {worst.unit}"
     else:
         head = f"the fastest root of this case moves at about {rate:.3g} 1/s"
         limit = ""
@@ -287,10 +288,15 @@ def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tup
         Estimated integration steps over one (reduced) period at each speed.
     """
     from .floquet import estimated_cost
+    from .transition import DOP8, GRID_CACHE_SIZE
 
     steps, rows = estimated_cost(system, speeds, lift)
-    size = 2 * system.size
-    work = steps.sum() * (size / _WORK_STATE) ** 2 + _EIG_PER_STEP * (rows**3).sum()
+    n = system.size
+    # a grid too fine to keep has its coefficient matrices formed again for every
+    # speed and every pass, which costs about four times the steps themselves
+    fresh = steps * len(DOP8.c) * n * 2 * n * 3 > GRID_CACHE_SIZE
+    per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
+    work = (steps * per_step).sum() + _EIG_PER_STEP * (rows**3).sum()
     return float(repeats * work), steps
 
 
@@ -303,7 +309,7 @@ def check_floquet_work(work: float, steps, speeds, what: str = "this sweep") -> 
     raise ModelRangeError(
         f"[sweep] Floquet analysis of {what} needs an estimated {work:.2g} integration steps "
         f"(in steps of a 12-state system; {len(speeds)} speeds, up to {steps[i]:.3g} steps per period "
-        f"at {speeds[i]:.4g} rad/s), above the limit of {FLOQUET_WORK_LIMIT:.2g} (a minute or two): "
+        f"at {speeds[i]:.4g} rad/s), above the limit of {FLOQUET_WORK_LIMIT:.2g} (a few minutes): "
         "use fewer points or start the sweep higher (the steps per period grow as 1/speed), "
         "or method = 'auto' where the case has a time-invariant form"
     )

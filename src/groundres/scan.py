@@ -119,10 +119,10 @@ class PeakWatch:
     """The largest value of ``fun(parameter, speeds)`` over speed, for one parameter after another.
 
     A full scan evaluates the grid and refines its largest local maxima; the
-    peaks found are kept, so that the next parameter (the next lag damping
-    of a search) looks there first, from a bracket that narrows as the peak
-    settles: the worst speed moves little from one damping to the next, and
-    only a full scan can show that no peak is positive.
+    peaks found are kept with their grid brackets, so that the next
+    parameter (the next lag damping of a search) looks there first: the
+    worst speed moves little from one damping to the next, and only a full
+    scan can show that no peak is positive.
     """
 
     def __init__(self, fun, grid, kind, seeds=(), peaks=None):
@@ -130,6 +130,7 @@ class PeakWatch:
         self.xtol = PEAK_XTOL[kind]
         self.peaks = peaks or (8 if kind == "eigen" else 3)
         self.brackets = [self._around(w) for w in seeds]
+        self.scanned = None  # the parameter of the last full scan
 
     def _around(self, w):
         i = int(np.clip(np.searchsorted(self.grid, w), 0, len(self.grid) - 1))
@@ -137,20 +138,10 @@ class PeakWatch:
         return [min(lo, w), max(hi, w), w]
 
     def _refine(self, p, span):
-        """Peak in ``span`` = [lo, hi, last peak] (updated in place to a narrower one around it)."""
-        lo, hi = span[:2]
-        first, last = self.grid[0], self.grid[-1]
-        for _ in range(6):  # the peak may have moved out of its bracket: follow it (bounded)
-            top, at = zoom_max(lambda w: self.fun(p, w), lo, hi, self.xtol)
-            width = hi - lo
-            if at <= lo + 1e-9 * width and lo > first:
-                lo, hi = max(first, lo - 2 * width), lo + 0.1 * width
-            elif at >= hi - 1e-9 * width and hi < last:
-                lo, hi = hi - 0.1 * width, min(last, hi + 2 * width)
-            else:
-                break
-        half = max(0.25 * (hi - lo), 16 * self.xtol * abs(at))
-        span[:] = [max(first, at - half), min(last, at + half), at]
+        """Peak in a watched span [lo, hi, last peak] (the grid bracket it came
+        from: a peak that leaves it is found again by the next full scan)."""
+        top, at = zoom_max(lambda w: self.fun(p, w), span[0], span[1], self.xtol)
+        span[2] = at
         return top, at
 
     def watched(self, p):
@@ -176,6 +167,7 @@ class PeakWatch:
         The highest local maximum is refined, and the others where they could
         rise above zero by four times what refining gained on it.
         """
+        self.scanned = p
         values = np.asarray(self.fun(p, self.grid), float)
         best, gain, spans = float(values.max()), None, []
         for i in local_maxima(values, self.peaks):
@@ -186,5 +178,6 @@ class PeakWatch:
                 best = max(best, top)
                 gain = max(gain or 0.0, top - values[i])
             spans.append(span)
-        self.brackets = spans + self.brackets[: 2 * self.peaks - len(spans)]
+        kept = [b for b in self.brackets if all(abs(b[2] - s[2]) > 4 * self.xtol * abs(s[2]) for s in spans)]
+        self.brackets = (spans + kept)[: 2 * self.peaks]
         return best

@@ -4,10 +4,13 @@ A real part counts as positive above ``GROWTH_PER_RADIAN * Omega`` (growth of
 more than one millionth per radian of rotor rotation) plus ``GROWTH_FLOOR``
 (1e-9 1/s, for the rotor at rest), so that neutral modes of undamped cases
 and near-repeated eigenvalues do not turn into instabilities through
-round-off. Ends of unstable ranges inside the sweep are located by root
-finding on the largest real part, not by the grid spacing; between the rotor
-at rest and the first speed that turns, the search stops at half that speed
-(a periodic analysis just above rest is the costliest of the sweep).
+round-off. Unstable ranges come from the largest real part on the sweep and
+on an internal grid (:mod:`groundres.scan`), with the local maxima refined
+(ranges narrower than the grid) and, for eigen-analyses, the places where two
+roots meet (undamped coalescences); their ends come from root finding, not
+from the grid spacing. Between the rotor at rest and the first speed that
+turns, no search goes below half that speed (a periodic analysis just above
+rest is the costliest of the sweep).
 
 Deutsch criterion (Deutsch 1946, "Ground vibrations of helicopters", J. Aero.
 Sci. 13(5); in the form of Johnson 2013, "Rotorcraft Aeromechanics", ch. 17):
@@ -19,7 +22,8 @@ omega_b = Omega (1 - nu), light damping needs
 
 with C_b the body damper and omega_b the body frequency with the rotor mass
 included. It is an approximation; :func:`minimum_lag_damping` finds the exact
-minimum from the eigenvalues.
+minimum from the roots, on the same internal grid and from the sweep's own
+verdict at the installed damper, so that the two never contradict each other.
 """
 
 from __future__ import annotations
@@ -393,9 +397,11 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
     seeds : iterable of float
         Speeds where the sweep grows (the peaks of its ranges), watched first.
     kind : "eigen" or "floquet"
-        A Floquet scan is costly: the bisection trusts the watched peaks and a
-        full scan confirms the result at the end; if it finds another peak, the
-        bisection goes on from there confirming every verdict.
+        A Floquet scan is costly: the bisection trusts the watched peaks within
+        a factor 2 of the damping they were scanned at, and a full scan
+        confirms the result; if it finds another peak, the bisection goes on
+        between there and the smallest damping shown stable (the last of four
+        rounds confirming every verdict).
 
     Returns
     -------
@@ -404,47 +410,52 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
     """
     watch = scan.PeakWatch(excess, grid, kind, seeds)
     eager = kind == "eigen"
+    proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
 
-    def unstable(c, confirm):
+    def stable(c, confirm):
         if watch.watched(c) > 0:
+            return False
+        # the watched peaks are trusted within a factor 2 of the damping their scan was made at
+        if not confirm and watch.scanned is not None and 0.5 * watch.scanned <= c <= 2 * watch.scanned:
             return True
-        return confirm and watch.full(c) > 0
+        if watch.full(c) > 0:
+            return False
+        proven[0] = c if proven[0] is None else min(proven[0], c)
+        return True
 
-    # bracket [lo, hi]: lo unstable (or zero), hi stable (known, or to be confirmed)
-    known = False
+    # bracket [lo, hi]: lo unstable (or zero), hi stable (None: not known yet)
     if anchor is not None and anchor[1]:
-        lo, hi = anchor[0], max(2 * anchor[0], start)
+        lo, hi = anchor[0], None
     else:
-        if not unstable(0.0, confirm=True):
+        if stable(0.0, confirm=True):
             return 0.0
-        known = anchor is not None and anchor[0] > 0  # the sweep found the installed damper stable
-        lo, hi = 0.0, anchor[0] if known else max(start, 1e-300)
-        if known and start < hi:  # the first guess splits a wide bracket
-            if unstable(start, eager):
-                lo = start
-            else:
-                hi, known = start, False
-    step = 0.0
+        lo, hi = 0.0, None
+        if anchor is not None and anchor[0] > 0:  # the sweep found the installed damper stable
+            hi = proven[0] = anchor[0]
+            if start < hi:  # the first guess splits a wide bracket
+                if stable(start, eager):
+                    hi = start
+                else:
+                    lo = start
     for round_ in range(4):
         confirm = eager or round_ == 3  # the last round confirms every verdict
-        while not known and unstable(hi, confirm):
-            lo, hi = hi, 2 * hi if round_ == 0 else hi + step
-            step *= 2
-            if hi > cap:
-                return None
-        known = False
+        if hi is None:  # up from lo, doubling
+            hi = max(2 * lo, start)
+            while not stable(hi, confirm):
+                lo, hi = hi, 2 * hi
+                if hi > cap:
+                    return None
         for _ in range(400):  # (bounded: halving from a guess, then bisection to rtol)
             if hi - lo <= rtol * hi or (lo == 0 and hi < 1e-12 * start):
                 break
             mid = math.sqrt(lo * hi) if 0 < 4 * lo < hi else 0.5 * (lo + hi)
-            if unstable(mid, confirm):
-                lo = mid
-            else:
+            if stable(mid, confirm):
                 hi = mid
-        if confirm or (anchor is not None and hi == anchor[0]) or watch.full(hi) <= 0:
+            else:
+                lo = mid
+        if confirm or hi == proven[0] or stable(hi, confirm=True):
             return hi
-        # the confirming scan found a peak the bisection had not watched: on from
-        # there, in small steps (the new peak's threshold is near)
-        lo, step = hi, 4 * rtol * hi
-        hi = lo + step
+        # the confirming scan found a peak the bisection had not watched: on
+        # between there and the smallest damping shown stable
+        lo, hi = hi, proven[0]
     return hi

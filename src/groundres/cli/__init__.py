@@ -28,9 +28,10 @@ class _Group(click.Group):
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from ..analysis import MethodError
             from ..config import CaseError
+            from ..limits import ModelRangeError
             from ..transition import SpeedRangeError
 
-            if isinstance(err, (CaseError, MethodError, SpeedRangeError)):
+            if isinstance(err, (CaseError, MethodError, ModelRangeError, SpeedRangeError)):
                 raise UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise
