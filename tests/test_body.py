@@ -107,8 +107,11 @@ def test_soft_in_plane_has_one_unstable_range_and_damping_removes_it():
     installed = damped.case.rotor.blades[0].lag_damping
     assert damped.exact_lag_damping < installed
     pitch_roll = analyze(load_case("soft-inplane-pitch-roll"))
-    assert len(pitch_roll.stability.unstable_ranges) == 1
-    assert pitch_roll.stability.unstable_ranges[0][0] > soft.rotor_speed[0]
+    # the ground-resonance range, and a narrow lag-flap coalescence below it
+    # (between two grid points: see test_edges_numeric.py for its provenance)
+    narrow, wide = pitch_roll.stability.unstable_ranges
+    assert wide[0] > soft.rotor_speed[0]
+    assert narrow[1] - narrow[0] < 0.02 and narrow[1] < wide[0]
 
 
 def test_pitch_roll_floquet_equals_multiblade():

@@ -18,6 +18,7 @@ _API = {
     "analyze": "analysis",
     "choose_method": "analysis",
     "MethodError": "analysis",
+    "ModelRangeError": "limits",
     "load_case": "config",
     "parse_case": "config",
     "CaseError": "config",

@@ -19,8 +19,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from . import floquet, identify, modal, stability
+from . import floquet, identify, limits, modal, scan, stability
 from .identify import Modes
+from .limits import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
 from .params import Case
 from .results import SweepResult
 from .system import System
@@ -75,13 +76,16 @@ def _reorder(order, *arrays):
 class _Solver:
     """Roots and their content for one case, at any speeds."""
 
-    def __init__(self, system: System):
+    kind = "eigen"
+
+    def __init__(self, system: System, unit: float = 1.0):
         self.system = system
+        self.unit = unit  # the mass unit the system is computed in [kg] (limits.mass_unit)
         self.nr_coords = system.multiblade_coordinates()
         self.iso = [p for p in _ISOTROPIC_PAIRS if system.body.pair_isotropic(*p)]
 
     def with_lag_damping(self, scale_to: float):
-        """The same case with the lag dampers that work set to ``scale_to``.
+        """The same case with the lag dampers that work set to ``scale_to`` [N m s/rad].
 
         Blades without a lag damper keep none (a failed damper stays failed),
         unless no blade has one, in which case all get it.
@@ -90,11 +94,48 @@ class _Solver:
         working = [b.lag_damping > 0 for b in blades]
         if not any(working):
             working = [True] * len(blades)
-        new = tuple(replace(b, lag_damping=scale_to) if w else b for b, w in zip(blades, working))
-        return type(self)(System(replace(self.system.rotor, blades=new), self.system.body))
+        value = scale_to / self.unit
+        new = tuple(replace(b, lag_damping=value) if w else b for b, w in zip(blades, working))
+        out = type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
+        out.fit_speed = self.fit_speed
+        return out
+
+    #: Speed [rad/s] the matrices of the time-invariant form are fitted at (0, half, all of it).
+    fit_speed = 1.0
+
+    def _fitted(self, speeds):
+        """The time-invariant form's matrices at any speeds from their exact quadratic dependence.
+
+        Mass is constant, damping linear and stiffness quadratic in Omega (the
+        transforms add Omega and Omega^2 terms), so three speeds give them
+        everywhere: a scan of thousands of speeds costs a few array products.
+        """
+        if getattr(self, "_fit", None) is None:
+            m, c, k = self.form(self.fit_speed * np.array([0.0, 0.5, 1.0]))
+            k1, k2 = 4 * k[1] - 3 * k[0] - k[2], 2 * (k[2] - 2 * k[1] + k[0])
+            self._fit = (m[0], c[0], c[2] - c[0], k[0], k1, k2)
+        m0, c0, c1, k0, k1, k2 = self._fit
+        x = (np.asarray(speeds, dtype=float) / self.fit_speed)[:, None, None]
+        return np.broadcast_to(m0, x.shape[:1] + m0.shape), c0 + x * c1, k0 + x * (k1 + x * k2)
+
+    def _scan_roots(self, speeds):
+        mats = self._fitted(speeds)
+        return modal.block_eigenvalues(*mats, self._blocks(mats), split=True)
+
+    def growth(self, speeds):
+        """Largest real part of all roots [1/s] at each speed (roots only, batched)."""
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        return np.max([r.real.max(-1) for r in self._scan_roots(speeds)], axis=0)
+
+    def closeness(self, speeds):
+        """Nearest approach of two roots of one block (:func:`groundres.modal.closest_pair`)."""
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        floor = np.maximum(speeds, 1e-3)
+        return np.min([modal.closest_pair(r, floor) for r in self._scan_roots(speeds)], axis=0)
 
     def weights(self, speeds):
-        return self.system.kinetic_weights(speeds)
+        """Kinetic weights [kg, kg m^2] (the mass-matrix diagonal in SI)."""
+        return self.system.kinetic_weights(speeds) * self.unit
 
     def accuracy(self) -> dict:
         """How the last sweep's roots were found, and how accurately (for provenance)."""
@@ -109,7 +150,7 @@ class _Solver:
             harmonics,
             orders,
             self.nr_coords,
-            self.weights(speeds),
+            self.system.kinetic_weights(speeds),  # (relative weights: in the equations' own unit)
             speeds,
             block=sol.block,
             blocks=sol.blocks,
@@ -120,8 +161,8 @@ class _Solver:
 
 
 class _Multiblade(_Solver):
-    def __init__(self, system):
-        super().__init__(system)
+    def __init__(self, system, unit=1.0):
+        super().__init__(system, unit)
         self.blocks = None
 
     def _blocks(self, mats):
@@ -129,15 +170,12 @@ class _Multiblade(_Solver):
             self.blocks = modal.coupling_blocks(*mats)
         return self.blocks
 
+    def form(self, speeds):
+        return self.system.multiblade(speeds)
+
     def roots(self, speeds):
         mats = self.system.multiblade(np.atleast_1d(speeds))
         return modal.block_eigenvalues(*mats, self._blocks(mats))
-
-    def coupled_roots(self, speeds):
-        """Roots of the blocks that contain a body coordinate (the only ones lag damping can destabilise)."""
-        mats = self.system.multiblade(np.atleast_1d(speeds))
-        n_body = self.system.n_body
-        return modal.block_eigenvalues(*mats, [b for b in self._blocks(mats) if b.min() < n_body])
 
     def sweep(self, speeds, progress=None):
         mats = self.system.multiblade(speeds)
@@ -157,11 +195,15 @@ class _Rotating(_Solver):
 
     samples = 16
 
+    def form(self, speeds):
+        return self.system.rotating_axes(speeds)
+
+    def _blocks(self, mats):
+        return modal.coupling_blocks(*mats)
+
     def roots(self, speeds):
         mats = self.system.rotating_axes(np.atleast_1d(speeds))
         return modal.block_eigenvalues(*mats, modal.coupling_blocks(*mats))
-
-    coupled_roots = roots
 
     def sweep(self, speeds, progress=None):
         mats = self.system.rotating_axes(speeds)
@@ -189,10 +231,16 @@ class _Rotating(_Solver):
 class _Floquet(_Solver):
     """Periodic equations: Floquet exponents and periodic eigenvectors."""
 
+    kind = "floquet"
+    closeness = None  # (exponents are known modulo Omega: ranges come from the grid and its peaks)
+
     def roots(self, speeds):
         return floquet.solve(self.system, np.atleast_1d(speeds), harmonics=0).exponent
 
-    coupled_roots = roots
+    def growth(self, speeds):
+        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`)."""
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        return floquet.solve(self.system, speeds, harmonics=0, lift=False).exponent.real.max(-1)
 
     solved = None
 
@@ -232,7 +280,9 @@ _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floque
 
 def root_solver(case: Case, form: str | None = None):
     """The solver of a case's roots (``.roots(speeds)``) by method form."""
-    return _SOLVERS[form or choose_method(case)](System(case.rotor, case.body))
+    unit = limits.mass_unit(case.rotor, case.body)
+    system = System(*limits.in_mass_unit(case.rotor, case.body, unit))
+    return _SOLVERS[form or choose_method(case)](system, unit)
 
 
 def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> float:
@@ -251,7 +301,7 @@ def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> f
         m = np.rint((target.imag - roots.imag) / w)
         cand = roots.real + 1j * np.abs(roots.imag + m * w)
     best = cand[np.argmin(np.abs(cand - target))]
-    return float(np.nan_to_num(identify.damping_ratio(best, scale=np.abs(cand).max()), nan=np.inf))
+    return float(identify.damping_ratio(best, scale=np.abs(cand).max()))
 
 
 def analyze(
@@ -277,17 +327,34 @@ def analyze(
     Returns
     -------
     SweepResult
+
+    Raises
+    ------
+    MethodError
+        For "eigen" on a case with periodic coefficients in every frame.
+    ModelRangeError
+        For a case the model cannot resolve in double precision, or a Floquet
+        sweep whose estimated work is beyond the limit (:mod:`groundres.limits`).
     """
     form = choose_method(case, method)
     frame = frame or case.sweep.frame
-    solver = _SOLVERS[form](System(case.rotor, case.body))
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
+    unit = limits.mass_unit(case.rotor, case.body)
+    system = System(*limits.in_mass_unit(case.rotor, case.body, unit))
+    limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold)
+    solver = _SOLVERS[form](system, unit)
+    solver.fit_speed = float(max(speeds.max(), 1e-3))
+    deutsch = _deutsch(system, unit)
+    probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
+    if solver.kind == "floquet":
+        low = _lowest_search_speed(deutsch)
+        _check_floquet_work(solver, speeds, probe, _search_grid(speeds, probe, True, low))
     report = progress or (lambda stage, done, total: None)
     report("sweep", 0, len(speeds))
     modes = solver.identify(solver.sweep(speeds, lambda done, total: report("sweep", done, total)), speeds)
     report("range ends", 0, None)
     max_real = modes.real_part.max(-1)
-    ratios = np.nan_to_num(modes.damping_ratio, nan=np.inf)  # (a root at the origin has none)
+    ratios = modes.damping_ratio
 
     def min_ratio_at(w):
         label = int(np.argmin(ratios[np.argmin(np.abs(speeds - w))]))
@@ -297,8 +364,12 @@ def analyze(
         speeds,
         max_real,
         ratios.min(-1),
+        solver.growth,
         lambda w: float(solver.roots(w).real.max()),
         min_ratio_at,
+        probe,
+        solver.kind,
+        closeness=solver.closeness,
     )
     report("range ends", 1, 1)
     accuracy = {
@@ -310,9 +381,8 @@ def analyze(
             "note": "a root grows when its real part exceeds per_radian * rotor speed + floor",
         },
     }
-    deutsch = stability.deutsch(case.rotor, case.body)
     report("lag damping", 0, None)
-    exact = _minimum_lag_damping(solver, case, speeds, deutsch)
+    exact = _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed)
     report("lag damping", 1, 1)
     return SweepResult(
         case=case,
@@ -329,38 +399,117 @@ def analyze(
     )
 
 
-def _minimum_lag_damping(solver, case, speeds, deutsch):
+def _deutsch(system, unit):
+    """Deutsch entries from the equations' own mass unit, dampers given back in SI."""
+    entries = stability.deutsch(system.rotor, system.body)
+    if unit == 1.0:
+        return entries
+
+    def si(x):
+        return None if x is None else x * unit
+
+    return [
+        replace(
+            e,
+            body_damping=si(e.body_damping),
+            required_lag_damping=si(e.required_lag_damping),
+            installed_lag_damping=si(e.installed_lag_damping),
+        )
+        for e in entries
+    ]
+
+
+#: Relative accuracy of the exact minimum lag damping, by kind of analysis.
+RTOL = {"eigen": 1e-4, "floquet": 1e-3}
+#: Work of a Floquet damping search beside its full scans of the grid (about
+#: four), in analyses of one speed: the bisection's refinements of the worst
+#: speeds; and of the refinements of the sweep's worst values.
+_SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
+
+
+def _check_floquet_work(solver, speeds, probe, search):
+    """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
+
+    Sweep (with its lifted problems), the internal grid, the damping search
+    (four full scans and its refinements, at the grid's mean cost per speed)
+    and the refinements of the worst values.
+    """
+    system = solver.system
+    work, steps = limits.floquet_work(system, speeds)
+    work += limits.floquet_work(system, probe, lift=False)[0]
+    scans, per = limits.floquet_work(system, search, lift=False)
+    typical = scans / max(len(search), 1)
+    work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
+    limits.check_floquet_work(work, steps, speeds)
+
+
+def _lowest_search_speed(deutsch):
+    """Half the lowest body frequency [rad/s]: below it the regressive lag mode,
+    at Omega (1 - nu) < Omega, meets no body mode, and lag damping decides nothing."""
+    body = [e.body_frequency for e in deutsch if e.body_frequency]
+    return 0.5 * min(body) if body else 0.0
+
+
+def _search_grid(speeds, probe, periodic, low=0.0):
+    """Speeds the damping search scans: the internal grid and the sweep's (at most 60 of
+    them for a periodic analysis, whose every speed is an integration), from ``low`` up."""
+    if periodic and len(speeds) > 60:
+        speeds = speeds[np.unique(np.linspace(0, len(speeds) - 1, 60).round().astype(int))]
+    grid = np.union1d(speeds, probe)
+    # the rotor at rest is no speed for the search: its roots do not depend on lag damping
+    inside = grid[(grid > 0) & (grid >= low)]
+    return inside if len(inside) else grid[-1:]
+
+
+def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
     """Smallest lag damping (on every blade that has a damper) for a stable sweep.
 
-    The search looks at speeds from half the lowest body frequency up: the
-    regressive lag mode, at Omega (1 - nu), meets a body mode only above it,
-    and a periodic analysis of the slowest speeds is the costliest of all.
+    The search scans the sweep and an internal grid dense near the tuning
+    speeds from half the lowest body frequency up, refines the worst speeds
+    (:func:`groundres.stability.minimum_lag_damping`), and starts from the
+    installed damper and the sweep's verdict there, so that the two agree:
+    installed >= the result exactly when the sweep is stable. A sweep
+    unstable wholly below that speed has no answer (None): lag damping does
+    not decide its stability there.
     """
-    periodic = not isinstance(solver, _Multiblade)
-    count = 60 if periodic else 200
-    body = [e.body_frequency for e in deutsch if e.body_frequency]
-    low = 0.5 * min(body) if body else 0.0
-    above = speeds[speeds >= low] if (speeds >= low).any() else speeds[-1:]
-    scan = above[np.unique(np.linspace(0, len(above) - 1, min(len(above), count)).round().astype(int))]
-
-    def growth(lag_damping):
-        trial = solver.with_lag_damping(lag_damping)
-
-        def excess(w):
-            return trial.coupled_roots(w).real.max(-1) - stability.growth_threshold(w)
-
-        coarse = excess(scan)
-        i = int(np.argmax(coarse))
-        fine = np.linspace(scan[max(i - 1, 0)], scan[min(i + 1, len(scan) - 1)], 11 if periodic else 41)
-        return float(max(coarse[i], excess(fine).max()))
-
+    periodic = solver.kind == "floquet"
+    low = _lowest_search_speed(deutsch)
+    if any(b < low for _, b in assessed.unstable_ranges):
+        return None
     blades = case.rotor.blades
-    finite = [e.required_lag_damping for e in deutsch if e.required_lag_damping not in (None, np.inf)]
     installed = max(b.lag_damping for b in blades)
     inertia = max(b.blade_inertia for b in blades)
-    guess = max(finite + [installed, inertia * speeds[-1] * 1e-3])
-    # Beyond a few times the Deutsch value (or the installed damper) more lag
-    # damping is no design answer; periodic analyses stop earlier because a
-    # very strong damper makes the equations stiff for the explicit integrator.
-    cap = (20 if periodic else 100) * max(guess, 2 * inertia * speeds[-1] * (0.05 if periodic else 1.0))
-    return stability.minimum_lag_damping(growth, guess, cap=cap, rtol=1e-3 if periodic else 1e-4)
+    # the largest lag damping the model resolves (limits.check_resolution), and a
+    # cap beyond which more damping is no design answer (periodic analyses stop
+    # earlier: a strong damper makes the equations stiff for the explicit integrator)
+    tau = float(stability.growth_threshold(np.array([speeds.min(), speeds.max()])).min())
+    resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
+    top = speeds.max()
+    cap = (20 if periodic else 100) * max(installed, 2 * inertia * top * (0.05 if periodic else 1.0))
+    cap = min(cap, resolved)
+    finite = [e.required_lag_damping for e in deutsch if e.required_lag_damping not in (None, np.inf)]
+    guess = min(max(finite) if finite else max(installed, inertia * top * 1e-3), 0.5 * cap)
+    guess = max(guess, 1e-12 * cap)
+    # the installed dampers belong to the family searched when the working ones are equal
+    working = {b.lag_damping for b in blades if b.lag_damping > 0}
+    anchor = (installed, not assessed.stable) if len(working) <= 1 and installed <= cap else None
+
+    trials = {}
+
+    def excess(lag_damping, w):
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
+            trials.clear()
+            trials[lag_damping] = solver.with_lag_damping(lag_damping)
+        return trials[lag_damping].growth(w) - stability.growth_threshold(w)
+
+    return stability.minimum_lag_damping(
+        excess,
+        _search_grid(speeds, probe, periodic, low),
+        guess,
+        cap=cap,
+        rtol=RTOL[solver.kind],
+        anchor=anchor,
+        seeds=assessed.peak_speeds,
+        kind=solver.kind,
+    )

@@ -52,12 +52,13 @@ from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for call
     TOLERANCE,
     SpeedRangeError,
     divisor_at_least,
-    frozen_real_parts,
+    frozen_rates,
     integrate,
     ordered_product,
     rates_per_radian,
     transition,
 )
+from .transition import estimated_steps as transition_steps
 
 #: Harmonics returned on each side of a root's dominant one.
 HARMONICS = 10
@@ -263,6 +264,7 @@ def solve(
     tolerance=TOLERANCE,
     scale=STEP_SCALE,
     tableau=DOP8,
+    lift: bool = True,
     progress=None,
 ) -> FloquetSolution:
     """Floquet exponents, multipliers and (if ``harmonics`` > 0) periodic eigenvectors.
@@ -277,6 +279,11 @@ def solve(
         exponents only.
     tolerance, scale, tableau
         Accuracy of the transition matrices (:func:`groundres.transition.integrate`).
+    lift : bool
+        Solve the lifted problem where the multipliers span many decades. Without
+        it (only with ``harmonics`` = 0) the largest real part is still exact,
+        since the largest multipliers of a product are resolved whatever the
+        smallest do, but the real parts of strongly damped roots are not.
     progress : callable, optional
         ``progress(done, total)`` in speeds, called as batches of speeds are done.
     """
@@ -306,9 +313,9 @@ def solve(
         if harmonics:
             q = system.to_multiblade(x[None, :, :n, :], np.zeros(1))[0]
             out_h[still, :, harmonics, :] = q
-    rate = np.zeros(n_s)
+    rate, low, high = np.zeros(n_s), np.zeros(n_s), np.zeros(n_s)
     if len(moving):
-        rate[moving] = rates_per_radian(system, speeds[moving])
+        rate[moving], low[moving], high[moving] = frozen_rates(system, speeds[moving])
     n_sym = system.n_blades // sym.shift
 
     def blocks_for(count, sel):
@@ -319,9 +326,6 @@ def solve(
         return divisor_at_least(count, max(-(-full // n_sym), 4))
 
     finished = speeds <= 0
-    low, high = (np.zeros(n_s), np.zeros(n_s))
-    if len(moving):
-        low[moving], high[moving] = frozen_real_parts(system, speeds[moving])
 
     def accept(sel, phi, parts, count):
         idx = moving[sel]
@@ -334,7 +338,7 @@ def solve(
         # decades spanned over the period: seen in the multipliers (which round-off
         # caps) or expected from the frozen system, with a margin
         spread = np.maximum(size.max(-1) - size.min(-1), 1.25 * (high[idx] - low[idx]) * dt + 2.0)
-        need = np.flatnonzero(spread > LIFT_SPREAD)
+        need = np.flatnonzero(spread > LIFT_SPREAD) if lift or harmonics else np.array([], int)
         samples = None
         if harmonics:  # (speeds that need the lifted problem are redone below)
             samples = _periodic_samples(parts, vec[None], lam, dt / len(parts))
@@ -369,9 +373,41 @@ def solve(
             progress(int(finished.sum()), n_s)
 
     if len(moving):
-        integrate(system, speeds[moving], sym.angle, tolerance, scale, tableau, blocks_for, accept)
+        w = speeds[moving]
+        integrate(system, w, sym.angle, tolerance, scale, tableau, blocks_for, accept, rate[moving])
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key)
+
+
+def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Integration steps and lifted-matrix rows at each speed, estimated before any work.
+
+    Returns
+    -------
+    steps : ndarray (n_s,)
+        Steps over the reduced period (zero at rest), twice as many where the
+        lifted problem integrates the period a second time.
+    rows : ndarray (n_s,)
+        Rows of the lifted matrix (0 where the speed needs none).
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    steps, rows = np.zeros(len(speeds)), np.zeros(len(speeds))
+    moving = speeds > 0
+    if moving.any():
+        angle = symmetry(system).angle
+        w = speeds[moving]
+        if len(w) > 256:  # (smooth in speed: estimated on a sample of it)
+            sample = np.unique(np.r_[np.geomspace(w.min(), w.max(), 200), np.linspace(w.min(), w.max(), 56)])
+            s_steps, s_rows = estimated_cost(system, sample, lift)
+            steps[moving] = np.exp(np.interp(np.log(w), np.log(sample), np.log(s_steps)))
+            rows[moving] = np.interp(w, sample, s_rows)
+            return steps, rows
+        rate, low, high = frozen_rates(system, w)
+        spread = 1.25 * (high - low) * angle / w + 2.0
+        lifted = (spread > LIFT_SPREAD) & lift
+        steps[moving] = transition_steps(system, w, angle, rate) * np.where(lifted, 2.0, 1.0)
+        rows[moving] = np.where(lifted, (np.ceil(spread / LIFT_STEP) + 1) * 2 * system.size, 0)
+    return steps, rows
 
 
 def monodromy(system: System, speeds, tolerance=TOLERANCE, scale=STEP_SCALE, tableau=DOP8) -> np.ndarray:

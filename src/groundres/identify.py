@@ -139,13 +139,20 @@ class Modes:
 
 
 def damping_ratio(roots, scale=None) -> np.ndarray:
-    """-Re(lambda)/|lambda| [-]; NaN for a root at the origin (below 1e-12 of
-    ``scale``, by default the largest root along the last axis)."""
+    """-Re(lambda)/|lambda| [-]; 0 for a root at the origin.
+
+    A root at the origin (|lambda| below 1e-12 of ``scale``, by default the
+    largest root along the last axis) is a neutral mode with no restoring
+    force, such as a free hinge at rest: it neither grows nor decays, so its
+    damping ratio is 0, between the decaying (+1) and the growing (-1) real
+    roots on either side of it (``docs/conventions.md``).
+    """
     roots = np.asarray(roots)
     size = np.abs(roots)
     scale = size.max(-1, keepdims=True) if scale is None else scale
+    zero = size <= 1e-12 * np.maximum(scale, 1e-300)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(size > 1e-12 * np.maximum(scale, 1e-300), -roots.real / size, np.nan)
+        return np.where(zero, 0.0, -roots.real / np.where(zero, 1.0, size))
 
 
 # -- labelling modes ----------------------------------------------------------

@@ -119,20 +119,43 @@ def block_eig(m, c, k, vectors=True):
             return w
         v = np.array([[1, 1, 1, 1], [-1j, -1j, 1j, 1j]]) / np.sqrt(2)
         return w, np.broadcast_to(v, w.shape[:-1] + (2, 4)).copy()
-    a = state_matrix(m, c, k)
+    # coordinates scaled so that the mass matrix has a unit diagonal: the
+    # state matrix is then balanced whatever the units and sizes of the body
+    # and the blades (a similarity: the roots are the same)
+    d = 1.0 / np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
+    scale = d[..., :, None] * d[..., None, :]
+    a = state_matrix(m * scale, c * scale, k * scale)
     if not vectors:
         return _batched(np.linalg.eigvals, a)
     w, v = _batched(np.linalg.eig, a)
-    q = v[..., :n, :]
+    q = v[..., :n, :] * d[..., :, None]
     return w, q / np.linalg.norm(q, axis=-2, keepdims=True)
 
 
-def block_eigenvalues(mass, damping, stiffness, blocks):
-    """All eigenvalues, block by block (no vectors), shape (..., 2n)."""
+def block_eigenvalues(mass, damping, stiffness, blocks, split=False):
+    """All eigenvalues, block by block (no vectors), shape (..., 2n); a list per block with ``split``."""
     out = [
         block_eig(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)), vectors=False) for b in blocks
     ]
-    return np.concatenate(out, axis=-1)
+    return out if split else np.concatenate(out, axis=-1)
+
+
+def closest_pair(roots, floor) -> np.ndarray:
+    """Smallest distance between two roots of one block in the upper half plane, relative (..., ).
+
+    ``roots`` (..., m) of one coupling block; the distance of two roots is
+    taken relative to the larger of their sizes and ``floor`` (..., ) [1/s].
+    Two roots coalesce (distance 0) at the ends of every coalescence
+    instability, so its local minima over speed point at ranges too narrow
+    for a grid to catch.
+    """
+    lam = np.where(roots.imag >= 0, roots, np.nan)
+    a, b = lam[..., :, None], lam[..., None, :]
+    size = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.asarray(floor)[..., None, None])
+    d = np.abs(a - b) / size
+    m = roots.shape[-1]
+    d = np.where(np.eye(m, dtype=bool), np.inf, d)
+    return np.nan_to_num(np.nanmin(d.reshape(d.shape[:-2] + (-1,)), axis=-1), nan=np.inf)
 
 
 @dataclass

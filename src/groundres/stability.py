@@ -4,10 +4,13 @@ A real part counts as positive above ``GROWTH_PER_RADIAN * Omega`` (growth of
 more than one millionth per radian of rotor rotation) plus ``GROWTH_FLOOR``
 (1e-9 1/s, for the rotor at rest), so that neutral modes of undamped cases
 and near-repeated eigenvalues do not turn into instabilities through
-round-off. Ends of unstable ranges inside the sweep are located by root
-finding on the largest real part, not by the grid spacing; between the rotor
-at rest and the first speed that turns, the search stops at half that speed
-(a periodic analysis just above rest is the costliest of the sweep).
+round-off. Unstable ranges come from the largest real part on the sweep and
+on an internal grid (:mod:`groundres.scan`), with the local maxima refined
+(ranges narrower than the grid) and, for eigen-analyses, the places where two
+roots meet (undamped coalescences); their ends come from root finding, not
+from the grid spacing. Between the rotor at rest and the first speed that
+turns, no search goes below half that speed (a periodic analysis just above
+rest is the costliest of the sweep).
 
 Deutsch criterion (Deutsch 1946, "Ground vibrations of helicopters", J. Aero.
 Sci. 13(5); in the form of Johnson 2013, "Rotorcraft Aeromechanics", ch. 17):
@@ -19,7 +22,8 @@ omega_b = Omega (1 - nu), light damping needs
 
 with C_b the body damper and omega_b the body frequency with the rotor mass
 included. It is an approximation; :func:`minimum_lag_damping` finds the exact
-minimum from the eigenvalues.
+minimum from the roots, on the same internal grid and from the sweep's own
+verdict at the installed damper, so that the two never contradict each other.
 """
 
 from __future__ import annotations
@@ -28,8 +32,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
+from . import scan
 from .params import Body, Rotor
 
 GROWTH_PER_RADIAN = 1e-6
@@ -48,20 +53,6 @@ def is_neutral(real_part, speeds):
     return np.abs(real_part) <= growth_threshold(speeds)
 
 
-def _below(speeds, i):
-    """The lower end of a search below grid point i: the previous speed, or half of
-    this one where the previous is the rotor at rest."""
-    return speeds[i - 1] if speeds[i - 1] > 0 else 0.5 * speeds[i]
-
-
-def _crossing(excess, lo, hi, rising):
-    """Where ``excess`` changes sign in [lo, hi]; the end it has already crossed at if none."""
-    a, b = excess(lo), excess(hi)
-    if (a > 0) == (b > 0):
-        return lo if rising else hi
-    return brentq(excess, lo, hi, xtol=1e-12, rtol=1e-8)
-
-
 @dataclass(frozen=True)
 class Stability:
     """Stability of a sweep.
@@ -74,18 +65,21 @@ class Stability:
         Largest real part [1/s] over the sweep and the speed [rad/s] where it occurs.
     min_damping_ratio : (float, float)
         Smallest damping ratio [-] over the sweep and its speed [rad/s].
+    peak_speeds : tuple of float
+        Speed [rad/s] of the largest real part inside each unstable range.
     """
 
     unstable_ranges: list
     max_real_part: tuple
     min_damping_ratio: tuple
+    peak_speeds: tuple = ()
 
     @property
     def stable(self) -> bool:
         return not self.unstable_ranges
 
 
-def _refine_max(fun, speeds, values, i):
+def _refine_max(fun, speeds, values, i, xtol=1e-6):
     """Maximise fun near grid point i (bounded by its neighbours; never between
     the rotor at rest and the first speed that turns: the value at rest is exact
     and a periodic analysis just above it is the costliest of the sweep)."""
@@ -96,67 +90,181 @@ def _refine_max(fun, speeds, values, i):
         lo = speeds[i]
     if hi <= lo:
         return values[i], speeds[i]
-    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6 * hi})
+    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi})
     if -res.fun > values[i]:
         return float(-res.fun), float(res.x)
     return float(values[i]), float(speeds[i])
 
 
-def unstable_ranges(speeds, max_real, max_real_at):
-    """Intervals where the largest real part exceeds the growth threshold.
+def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
+    """Intervals where ``excess`` (largest real part minus the growth threshold) is positive.
+
+    Parameters
+    ----------
+    grid : ndarray (n,)
+        Speeds [rad/s], increasing: the sweep's and an internal grid
+        (:func:`groundres.scan.probe_speeds`).
+    values : ndarray (n,)
+        ``excess`` on the grid [1/s].
+    excess : callable
+        ``excess(speeds) -> values`` at any speeds (arrays).
+    kind : "eigen" or "floquet"
+        Accuracy of the refined peaks (:data:`groundres.scan.PEAK_XTOL`).
+    peaks : int
+        Local maxima of the grid values refined to find ranges narrower than
+        the grid (the largest first).
+    closeness : callable, optional
+        ``closeness(speeds)``: nearest approach of two roots
+        (:func:`groundres.modal.closest_pair`). An undamped coalescence range
+        has no bump outside it (its roots are neutral until they meet), but
+        its roots approach: the deepest local minima of the closeness are
+        refined to where the roots meet, and the growth is probed beside it.
+
+    Returns
+    -------
+    ranges : list of (float, float)
+        Interior ends to 1e-10 relative; ranges open at an end of the grid report that end.
+    peak_speeds : list of float
+        Speed of the largest excess inside each range.
+    """
+    grid, values = np.asarray(grid, float), np.asarray(values, float)
+    n = len(grid)
+    found = []  # (start, end, peak speed, peak value)
+    i = 0
+    while i < n:
+        if values[i] <= 0:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and values[j + 1] > 0:
+            j += 1
+        start = grid[0] if i == 0 else _end(excess, scan.bracket(grid, i)[0], grid[i])
+        end = grid[-1] if j == n - 1 else scan.crossing(excess, grid[j], grid[j + 1])
+        k = i + int(np.argmax(values[i : j + 1]))
+        found.append([float(start), float(end), float(grid[k]), float(values[k])])
+        i = j + 1
+    for i in scan.local_maxima(values, peaks):
+        if values[i] > 0 or grid[i] <= 0:
+            continue
+        lo, hi = scan.bracket(grid, i)
+        if hi <= lo:
+            continue
+        top, at = scan.zoom_max(excess, lo, hi, scan.PEAK_XTOL[kind])
+        if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
+            continue
+        # a range narrower than the grid: its ends on either side of the peak
+        start = lo if float(excess(np.array([lo]))[0]) > 0 else scan.crossing(excess, lo, at)
+        end = hi if float(excess(np.array([hi]))[0]) > 0 else scan.crossing(excess, at, hi)
+        found.append([float(start), float(end), at, top])
+    if closeness is not None:
+        near = np.asarray(closeness(grid), float)
+        for i in scan.local_maxima(-near, peaks):
+            lo, hi = scan.bracket(grid, i)
+            if grid[i] <= 0 or hi <= lo:
+                continue
+            _, meet = scan.zoom_max(lambda w: -np.asarray(closeness(w)), lo, hi, 1e-12)
+            if any(a * (1 - 1e-6) <= meet <= b * (1 + 1e-6) for a, b, _, _ in found):
+                continue  # the meeting point of a range already found (one of its ends)
+            side = meet * 10.0 ** -np.arange(10.0, 3.0, -1.0)
+            probe = np.clip(np.concatenate([meet - side, meet + side]), lo, hi)
+            v = np.asarray(excess(probe), float)
+            if v.max() <= 0:
+                continue
+            at = float(probe[int(np.argmax(v))])
+            start, end = _end(excess, lo, at), _end(lambda w: excess(-np.asarray(w)), -hi, -at)
+            found.append([float(start), -float(end), at, float(v.max())])
+    return _merged(found)
+
+
+def _merged(found):
+    """Ranges (start, end, peak speed, peak value) sorted, overlapping ones joined."""
+    out = []
+    for a, b, w, v in sorted(found):
+        if out and a <= out[-1][1] * (1 + 1e-9):
+            last = out[-1]
+            last[1] = max(last[1], b)
+            if v > last[3]:
+                last[2], last[3] = w, v
+        else:
+            out.append([a, b, w, v])
+    return [(a, b) for a, b, _, _ in out], [w for _, _, w, _ in out]
+
+
+def _end(excess, lo, hi):
+    """The rising crossing in [lo, hi], or lo if excess is already positive there."""
+    if float(excess(np.array([lo]))[0]) > 0:
+        return lo
+    return scan.crossing(excess, lo, hi)
+
+
+def assess(
+    speeds,
+    max_real,
+    min_damping,
+    growth,
+    max_real_at,
+    min_damping_at,
+    probe=None,
+    kind="eigen",
+    closeness=None,
+):
+    """Unstable ranges and refined worst values for a sweep.
 
     Parameters
     ----------
     speeds : ndarray (n_s,)
-        Sweep speeds [rad/s], increasing.
-    max_real : ndarray (n_s,)
-        Largest real part over all roots at each speed [1/s].
-    max_real_at : callable
-        ``max_real_at(speed) -> float``, the same quantity at any speed.
-
-    Returns
-    -------
-    list of (float, float)
-        Interior ends to 1e-8 relative; ranges open at a sweep end report that end.
+        The sweep [rad/s].
+    max_real, min_damping : ndarray (n_s,)
+        Largest real part [1/s] and smallest damping ratio [-] at each sweep speed.
+    growth : callable
+        ``growth(speeds) -> largest real part`` at any speeds (arrays, roots only).
+    max_real_at, min_damping_at : callable
+        The same quantities at one speed, as accurate as the sweep's (to refine the worst values).
+    probe : ndarray, optional
+        Internal speeds between the sweep's (:func:`groundres.scan.probe_speeds`).
+    kind : "eigen" or "floquet"
+    closeness : callable, optional
+        Nearest approach of two roots at given speeds (:func:`find_ranges`).
     """
-    excess = lambda w: max_real_at(w) - growth_threshold(w)  # noqa: E731
-    positive = max_real > growth_threshold(speeds)
-    ranges = []
-    i, n = 0, len(speeds)
-    while i < n:
-        if not positive[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < n and positive[j + 1]:
-            j += 1
-        start = speeds[0] if i == 0 else _crossing(excess, _below(speeds, i), speeds[i], rising=True)
-        end = speeds[-1] if j == n - 1 else brentq(excess, speeds[j], speeds[j + 1], xtol=1e-12, rtol=1e-8)
-        ranges.append((float(start), float(end)))
-        i = j + 1
-    return ranges
+    speeds = np.asarray(speeds, float)
+    probe = np.zeros(0) if probe is None else np.asarray(probe, float)
+    grid = np.concatenate([speeds, probe])
+    values = np.concatenate([max_real, growth(probe) if len(probe) else np.zeros(0)])
+    order = np.argsort(grid, kind="stable")
+    grid, values = grid[order], values[order] - growth_threshold(grid[order])
 
+    def excess(w):
+        w = np.asarray(w, float)
+        return growth(w) - growth_threshold(w)
 
-def assess(speeds, max_real, min_damping, max_real_at, min_damping_at) -> Stability:
-    """Unstable ranges and refined worst values for a sweep."""
-    i = int(np.argmax(max_real - growth_threshold(speeds)))
-    worst = _refine_max(max_real_at, speeds, max_real, i)
+    ranges, peak_speeds = find_ranges(grid, values, excess, kind, closeness=closeness)
+    i = int(np.argmax(values))
+    sweep_i = int(np.argmin(np.abs(speeds - grid[i])))
+    xtol = 1e-6
+    if grid[i] in speeds:
+        worst = _refine_max(max_real_at, speeds, max_real, sweep_i, xtol)
+    else:  # the worst speed lies between the sweep's: refine there
+        lo, hi = scan.bracket(grid, i)
+        res = minimize_scalar(
+            lambda w: -max_real_at(w), bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi}
+        )
+        worst = (float(-res.fun), float(res.x))
+    at = worst[1]
+    if worst[0] > growth_threshold(at) and not any(a <= at <= b for a, b in ranges):
+        # the refined worst value grows where no range was found: its range, narrower than the grid
+        lo, hi = scan.bracket(grid, i)
+        lo, hi = min(lo, at), max(hi, at)
+        start = _end(excess, lo, at) if float(excess(np.array([at]))[0]) > 0 else at
+        end = hi if float(excess(np.array([hi]))[0]) > 0 or start == at else scan.crossing(excess, at, hi)
+        ranges, peak_speeds = zip(*sorted(list(zip(ranges, peak_speeds)) + [((start, end), at)]))
+        ranges, peak_speeds = list(ranges), list(peak_speeds)
     j = int(np.nanargmin(min_damping))
-    low = _refine_max(lambda w: -min_damping_at(w), speeds, -min_damping, j)
-    ranges = unstable_ranges(speeds, max_real, max_real_at)
-    peak, at = worst
-    if peak > growth_threshold(at) and not any(a <= at <= b for a, b in ranges):
-        # a range narrower than the grid: the refined peak found it; locate its ends
-        excess = lambda w: max_real_at(w) - growth_threshold(w)  # noqa: E731
-        lo = speeds[i] if i == 0 else _below(speeds, i)
-        hi = speeds[min(i + 1, len(speeds) - 1)]
-        start = lo if excess(lo) > 0 else brentq(excess, lo, at, xtol=1e-12, rtol=1e-8)
-        end = hi if excess(hi) > 0 else brentq(excess, at, hi, xtol=1e-12, rtol=1e-8)
-        ranges = sorted(ranges + [(float(start), float(end))])
+    low = _refine_max(lambda w: -min_damping_at(w), speeds, -min_damping, j, xtol)
     return Stability(
         unstable_ranges=ranges,
         max_real_part=worst,
         min_damping_ratio=(-low[0], low[1]),
+        peak_speeds=tuple(peak_speeds),
     )
 
 
@@ -266,15 +374,18 @@ def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
     if dof in ("x", "y"):
         return body.value("inertia", dof) + m_rotor, body.value("stiffness", dof), body.value("damping", dof)
     h = body.hub_height
-    if h == 0:
-        return None
+    h2 = h * h
     # rotor inertia about the pivot, averaged over azimuth (all blades alike)
     e = b.hinge_offset
     j_rotor = n * (
-        b.blade_mass * h**2 + (b.blade_inertia + 2 * b.blade_static_moment * e + b.blade_mass * e**2) / 2
+        b.blade_mass * h2 + (b.blade_inertia + 2 * b.blade_static_moment * e + b.blade_mass * e * e) / 2
     )
     j = body.value("inertia", dof) + j_rotor
-    return j / h**2, body.value("stiffness", dof) / h**2, body.value("damping", dof) / h**2
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        out = tuple(np.float64(x) / h2 for x in (j, body.value("stiffness", dof), body.value("damping", dof)))
+    if h2 == 0 or not all(np.isfinite(out)):
+        return None  # the hub (almost) at the pivot: body rotation does not move it
+    return tuple(float(x) for x in out)
 
 
 def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
@@ -330,37 +441,90 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     return entries
 
 
-def minimum_lag_damping(growth, start, cap, rtol=1e-4):
+def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen"):
     """Smallest lag damping that makes the sweep stable, by bisection.
 
     Parameters
     ----------
-    growth : callable
-        ``growth(lag_damping) -> float``: the largest excess of real part over
-        the growth threshold anywhere in the sweep (<= 0 means stable).
+    excess : callable
+        ``excess(lag_damping, speeds) -> array``: largest real part minus the
+        growth threshold [1/s] at those speeds with that lag damping.
+    grid : ndarray
+        Speeds [rad/s] scanned for the worst one: the sweep's and an internal
+        grid dense near the tuning speeds (:func:`groundres.scan.probe_speeds`),
+        so that the answer does not depend on the sweep's spacing.
     start : float
         A first guess [N m s/rad] (> 0).
     cap : float
         Largest lag damping tried [N m s/rad].
     rtol : float
         Relative accuracy of the result.
+    anchor : (float, bool), optional
+        The installed lag damping and whether the sweep found it unstable: the
+        search brackets from it, so that installed >= result exactly when the
+        sweep is stable.
+    seeds : iterable of float
+        Speeds where the sweep grows (the peaks of its ranges), watched first.
+    kind : "eigen" or "floquet"
+        A Floquet scan is costly: the bisection trusts the watched peaks within
+        a factor 2 of the damping they were scanned at, and a full scan
+        confirms the result; if it finds another peak, the bisection goes on
+        between there and the smallest damping shown stable (the last of four
+        rounds confirming every verdict).
 
     Returns
     -------
     float or None
         0.0 if stable without lag damping; None if even ``cap`` is unstable.
     """
-    if growth(0.0) <= 0:
-        return 0.0
-    lo, hi = 0.0, max(start, 1e-9)
-    while growth(hi) > 0:
-        lo, hi = hi, 2 * hi
-        if hi > cap:
-            return None
-    while hi - lo > rtol * hi:
-        mid = 0.5 * (lo + hi)
-        if growth(mid) > 0:
-            lo = mid
-        else:
-            hi = mid
+    watch = scan.PeakWatch(excess, grid, kind, seeds)
+    eager = kind == "eigen"
+    proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
+
+    def stable(c, confirm):
+        if watch.watched(c) > 0:
+            return False
+        # the watched peaks are trusted within a factor 2 of the damping their scan was made at
+        if not confirm and watch.scanned is not None and 0.5 * watch.scanned <= c <= 2 * watch.scanned:
+            return True
+        if watch.full(c) > 0:
+            return False
+        proven[0] = c if proven[0] is None else min(proven[0], c)
+        return True
+
+    # bracket [lo, hi]: lo unstable (or zero), hi stable (None: not known yet)
+    if anchor is not None and anchor[1]:
+        lo, hi = anchor[0], None
+    else:
+        if stable(0.0, confirm=True):
+            return 0.0
+        lo, hi = 0.0, None
+        if anchor is not None and anchor[0] > 0:  # the sweep found the installed damper stable
+            hi = proven[0] = anchor[0]
+            if start < hi:  # the first guess splits a wide bracket
+                if stable(start, eager):
+                    hi = start
+                else:
+                    lo = start
+    for round_ in range(4):
+        confirm = eager or round_ == 3  # the last round confirms every verdict
+        if hi is None:  # up from lo, doubling
+            hi = max(2 * lo, start)
+            while not stable(hi, confirm):
+                lo, hi = hi, 2 * hi
+                if hi > cap:
+                    return None
+        for _ in range(400):  # (bounded: halving from a guess, then bisection to rtol)
+            if hi - lo <= rtol * hi or (lo == 0 and hi < 1e-12 * start):
+                break
+            mid = math.sqrt(lo * hi) if 0 < 4 * lo < hi else 0.5 * (lo + hi)
+            if stable(mid, confirm):
+                hi = mid
+            else:
+                lo = mid
+        if confirm or hi == proven[0] or stable(hi, confirm=True):
+            return hi
+        # the confirming scan found a peak the bisection had not watched: on
+        # between there and the smallest damping shown stable
+        lo, hi = hi, proven[0]
     return hi

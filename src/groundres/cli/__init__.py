@@ -43,9 +43,10 @@ class _Group(click.Group):
             from ..analysis import MethodError
             from ..config import CaseError
             from ..folders import OutputFolderError
+            from ..limits import ModelRangeError
             from ..transition import SpeedRangeError
 
-            if isinstance(err, (CaseError, MethodError, SpeedRangeError, OutputFolderError)):
+            if isinstance(err, (CaseError, MethodError, ModelRangeError, SpeedRangeError, OutputFolderError)):
                 raise UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise

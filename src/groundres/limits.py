@@ -1,0 +1,315 @@
+"""What the model can represent, and what a periodic analysis costs.
+
+Checked before any work; a case outside them is refused with
+:class:`ModelRangeError`, whose message names the key, its value and the
+range this case allows (the command line exits 2).
+
+**Magnitudes.** Every coefficient of the equations is linear in the masses,
+static moments, inertias, springs and dampers, so dividing all of them by
+one mass unit changes no root and no mode shape. Where the inertias of a
+case lie outside 2^+-200 kg (kg m^2), they are computed in a mass unit that
+is a power of two near the largest one (:func:`mass_unit`): exact in
+floating point, so that the products of the equations cannot overflow or
+underflow. Lengths and speeds are used as given.
+
+**Resolution.** Real parts come out of an eigen-solver (or a transition
+matrix) with an absolute error of about eps times the fastest rate of the
+system, eps = 2.2e-16. A root counts as growing above the growth threshold
+(:func:`groundres.stability.growth_threshold`), so a case is refused where
+``ROUND_OFF * eps * fastest rate`` exceeds that threshold at some speed of
+the sweep: a lag damper of 1e14 N m s/rad on a 1000 kg m^2 blade decays at
+1e11 1/s and leaves the real parts uncertain by about 1e-5 1/s, too much to
+tell growth from round-off at a few rad/s. The fastest rate is read from
+the roots of the equations frozen at a few azimuths, coordinates scaled so
+that the mass matrix has a unit diagonal.
+
+**Work.** A Floquet analysis integrates one period per speed; the step count
+grows as the fastest rate per radian, so as 1/Omega at low speed, and the
+cost of a step as the square of the state size (measured: 12 to 44 states),
+five times more where a period's grid is too fine to keep (low speeds).
+:func:`floquet_work` estimates it before the integration starts, and
+:func:`check_floquet_work` refuses a sweep above :data:`FLOQUET_WORK_LIMIT`
+with the estimate and what to change.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from .params import Blade, Body, Rotor
+
+EPS = float(np.finfo(float).eps)
+#: Real parts are trusted to ROUND_OFF * eps * (fastest rate of the system).
+ROUND_OFF = 10.0
+#: Inertias inside 2^+-MASS_RANGE are used as given; outside, a mass unit is used.
+MASS_RANGE = 200
+#: Estimated Floquet work above which an analysis is refused, in steps of a
+#: 12-state system (0.005 to 0.3 ms each on two laptop cores, the estimate
+#: being an upper bound: at most a few minutes).
+FLOQUET_WORK_LIMIT = 2e6
+#: State size of the work unit.
+_WORK_STATE = 12
+#: Work units per flop-cube of a nonsymmetric eigenvalue problem (measured: a
+#: 1500-row problem costs about as much as 5e4 steps).
+_EIG_PER_STEP = 1.6e-5
+
+_BLADE_MASS_LIKE = tuple(f.name for f in fields(Blade) if f.name != "hinge_offset")
+_BODY_KINDS = ("mass_", "inertia_", "stiffness_", "damping_")
+
+
+class ModelRangeError(ValueError):
+    """A case the model cannot resolve, or a sweep too costly; the message says why and what is allowed."""
+
+
+# -- magnitudes ------------------------------------------------------------------
+
+
+def _inertias(rotor: Rotor, body: Body):
+    values = [v for b in rotor.blades for v in (b.blade_mass, b.blade_inertia, b.blade_static_moment)]
+    values += [body.value("inertia", d) for d in body.dofs]
+    return [v for v in values if v > 0]
+
+
+def mass_unit(rotor: Rotor, body: Body) -> float:
+    """The mass unit [kg] the equations of a case are computed in: 1 unless its
+    inertias lie outside 2^+-MASS_RANGE, else the power of two nearest the largest."""
+    big = max(_inertias(rotor, body))
+    if 2.0**-MASS_RANGE <= big <= 2.0**MASS_RANGE:
+        return 1.0
+    return 2.0 ** round(math.log2(big))
+
+
+def in_mass_unit(rotor: Rotor, body: Body, unit: float) -> tuple[Rotor, Body]:
+    """Rotor and body with every mass-like parameter divided by ``unit`` (exact for a power of two)."""
+    if unit == 1.0:
+        return rotor, body
+    blades = tuple(replace(b, **{k: getattr(b, k) / unit for k in _BLADE_MASS_LIKE}) for b in rotor.blades)
+    changes = {
+        f.name: getattr(body, f.name) / unit
+        for f in fields(Body)
+        if f.name.startswith(_BODY_KINDS) and getattr(body, f.name)
+    }
+    return replace(rotor, blades=blades), replace(body, **changes)
+
+
+# -- resolution -------------------------------------------------------------------
+
+
+def _rotor_inertia_about_pivot(rotor: Rotor, h: float) -> float:
+    return sum(
+        b.blade_mass * h * h
+        + 0.5
+        * (b.blade_inertia + 2 * b.blade_static_moment * b.hinge_offset + b.blade_mass * b.hinge_offset**2)
+        for b in rotor.blades
+    )
+
+
+@dataclass(frozen=True)
+class RateSource:
+    """A rate [1/s] one parameter sets on its own: rate = (value / coefficient)**(1/power)."""
+
+    key: str
+    value: float
+    unit: str
+    power: int
+    coefficient: float
+    what: str
+    at_top: bool  # the rate grows with rotor speed (given at the stop speed)
+
+    @property
+    def rate(self) -> float:
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            r = (self.value / self.coefficient) ** (1.0 / self.power) if self.coefficient > 0 else 0.0
+        return float(r) if math.isfinite(r) else math.inf
+
+    def value_at(self, rate: float) -> float:
+        """The value that sets ``rate``."""
+        return self.coefficient * rate**self.power
+
+
+def rate_sources(rotor: Rotor, body: Body, top_speed: float) -> list[RateSource]:
+    """Rates [1/s] the parameters of a case set on their own (dampers, springs, speed)."""
+    out = []
+    many = not rotor.identical
+    for k, b in enumerate(rotor.blades if many else rotor.blades[:1]):
+        where = f" (blade {k + 1})" if many else ""
+        i = b.blade_inertia
+        for kind in ("lag", "flap") if rotor.flap else ("lag",):
+            what = f"with blade_inertia {i:.5g} kg m^2"
+            c, s = getattr(b, f"{kind}_damping"), getattr(b, f"{kind}_stiffness")
+            out.append(
+                RateSource(f"[rotor] {kind}_damping{where}", c, "N m s/rad", 1, i, f"C/I {what}", False)
+            )
+            out.append(
+                RateSource(f"[rotor] {kind}_stiffness{where}", s, "N m/rad", 2, i, f"sqrt(K/I) {what}", False)
+            )
+        if b.blade_static_moment > 0 and top_speed > 0:
+            coef = i / (top_speed**2 * b.blade_static_moment)
+            out.append(
+                RateSource(
+                    f"[rotor] hinge_offset{where}", b.hinge_offset, "m", 2, coef, "Omega sqrt(e S/I)", True
+                )
+            )
+    m_rotor = sum(b.blade_mass for b in rotor.blades)
+    for d in body.dofs:
+        added = m_rotor if d in ("x", "y") else _rotor_inertia_about_pivot(rotor, body.hub_height)
+        mass = body.value("inertia", d) + added
+        unit = ("N s/m", "N/m") if d in ("x", "y") else ("N m s/rad", "N m/rad")
+        what = f"with the rotor's share, M = {mass:.5g}"
+        out.append(
+            RateSource(
+                f"[body] damping_{d}", body.value("damping", d), unit[0], 1, mass, f"C/M {what}", False
+            )
+        )
+        out.append(
+            RateSource(
+                f"[body] stiffness_{d}",
+                body.value("stiffness", d),
+                unit[1],
+                2,
+                mass,
+                f"sqrt(K/M) {what}",
+                False,
+            )
+        )
+    out.append(RateSource("[sweep] stop", top_speed, "rad/s", 1, 1.0, "the rotor speed", True))
+    return out
+
+
+def _scaled_state(m, c, k):
+    """State matrices with coordinates scaled so that the mass matrix has a unit diagonal."""
+    d = 1.0 / np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
+    sm, sc, sk = (x * d[..., :, None] * d[..., None, :] for x in (m, c, k))
+    n = m.shape[-1]
+    a = np.zeros(m.shape[:-2] + (2 * n, 2 * n))
+    a[..., :n, n:] = np.eye(n)
+    a[..., n:, :] = -np.linalg.solve(sm, np.concatenate([sk, sc], -1))
+    return a
+
+
+def fastest_rate(system, speeds) -> np.ndarray:
+    """Largest |root| [1/s] of the equations frozen at four azimuths, at each speed (n_s,).
+
+    Raises
+    ------
+    ModelRangeError
+        If the coefficients are not finite or the mass matrix is singular.
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    psi = np.linspace(0, 2 * np.pi, 4, endpoint=False)
+    with np.errstate(over="ignore", invalid="ignore"):
+        m, c, k = system.matrices(speeds, psi[:, None])
+        finite = np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all()
+    if not finite:
+        raise ModelRangeError(
+            "the equations of this case overflow in double precision: a length (hinge_offset, "
+            "hub_height) or a product of parameters is too large; keep lengths below about 1e100 m "
+            "and the ratios of like parameters within about 1e100"
+        )
+    d = np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
+    unit_mass = m / (d[..., :, None] * d[..., None, :])
+    if np.linalg.eigvalsh(unit_mass).min() <= 1e-12:
+        raise ModelRangeError(
+            "the mass matrix of this case is singular to working precision (a blade with "
+            "blade_static_moment^2 = blade_mass * blade_inertia on a body of almost no mass): "
+            "give the body more mass or the blade more inertia"
+        )
+    with np.errstate(over="ignore", invalid="ignore"):
+        roots = np.linalg.eigvals(_scaled_state(m, c, k))
+    return np.abs(roots).max(-1).max(0)
+
+
+def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> None:
+    """Refuse a case whose round-off would exceed the growth threshold (module docstring).
+
+    Parameters
+    ----------
+    rotor, body : Rotor, Body
+        The case's own (physical) parameters, to name the key.
+    system : System
+        The equations, in the mass unit they are computed in.
+    speeds : ndarray
+        The sweep [rad/s].
+    threshold : callable
+        Growth threshold [1/s] at given speeds.
+
+    Raises
+    ------
+    ModelRangeError
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    ends = np.array([speeds.min(), speeds.max()])
+    tau = threshold(ends)
+    allowed = tau / (ROUND_OFF * EPS)  # fastest rate resolved at each end [1/s]
+    sources = rate_sources(rotor, body, float(ends[-1]))
+    excess = [src.rate / allowed[int(src.at_top)] for src in sources]
+    worst = sources[int(np.argmax(excess))]
+    if max(excess) > 1.0:
+        end = int(worst.at_top)
+        rate = worst.rate
+    else:
+        rho = fastest_rate(system, ends)
+        if (rho <= allowed).all():
+            return
+        end = int(np.argmax(rho / allowed))
+        rate = float(rho[end])
+        # the parameter that comes nearest to setting that rate on its own
+        worst = max((src for src in sources if int(src.at_top) == end), key=lambda src: src.rate)
+    if worst.rate >= 0.1 * rate and worst.rate > 0:
+        head = f"{worst.key} = {worst.value:.6g} {worst.unit}: it sets a rate of {worst.rate:.3g} 1/s"
+        head += f" ({worst.what})"
+        name = worst.key.split("] ")[-1]
+        limit = f"; allowed here: {name} up to about {worst.value_at(allowed[end]):.3g} {worst.unit}"
+    else:
+        head = f"the fastest root of this case moves at about {rate:.3g} 1/s"
+        limit = ""
+    raise ModelRangeError(
+        f"{head}, so its real parts carry round-off of about {ROUND_OFF * EPS * rate:.2g} 1/s, above the "
+        f"growth threshold ({tau[end]:.2g} 1/s at {ends[end]:.4g} rad/s): growth could not be told from "
+        f"round-off. The model resolves rates up to {allowed[end]:.3g} 1/s at that speed{limit}"
+    )
+
+
+# -- work of a periodic analysis ---------------------------------------------------
+
+
+def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tuple[float, np.ndarray]:
+    """Estimated work of Floquet analyses at ``speeds`` (:func:`groundres.floquet.estimated_cost`).
+
+    Returns
+    -------
+    work : float
+        In steps of a 12-state system, for ``repeats`` analyses of every speed;
+        a lifted matrix of L rows counts as the eigenvalue problem's L^3 flops.
+    steps : ndarray (n_s,)
+        Estimated integration steps over one (reduced) period at each speed.
+    """
+    from .floquet import estimated_cost
+    from .transition import DOP8, GRID_CACHE_SIZE
+
+    steps, rows = estimated_cost(system, speeds, lift)
+    n = system.size
+    # a grid too fine to keep has its coefficient matrices formed again for every
+    # speed and every pass, which costs about four times the steps themselves
+    fresh = steps * len(DOP8.c) * n * 2 * n * 3 > GRID_CACHE_SIZE
+    per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
+    work = (steps * per_step).sum() + _EIG_PER_STEP * (rows**3).sum()
+    return float(repeats * work), steps
+
+
+def check_floquet_work(work: float, steps, speeds, what: str = "this sweep") -> None:
+    """Refuse Floquet work above :data:`FLOQUET_WORK_LIMIT`, with the estimate and what to change."""
+    if work <= FLOQUET_WORK_LIMIT:
+        return
+    speeds = np.asarray(speeds, dtype=float)
+    i = int(np.argmax(steps))
+    raise ModelRangeError(
+        f"[sweep] Floquet analysis of {what} needs an estimated {work:.2g} integration steps "
+        f"(in steps of a 12-state system; {len(speeds)} speeds, up to {steps[i]:.3g} steps per period "
+        f"at {speeds[i]:.4g} rad/s), above the limit of {FLOQUET_WORK_LIMIT:.2g} (a few minutes): "
+        "use fewer points or start the sweep higher (the steps per period grow as 1/speed), "
+        "or method = 'auto' where the case has a time-invariant form"
+    )

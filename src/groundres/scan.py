@@ -1,0 +1,183 @@
+"""A quantity scanned over rotor speed: internal grids, peaks, sign changes.
+
+Range detection and the damping search look at the largest real part of
+the roots as a function of rotor speed. The sweep's own grid may be coarse
+(two points), so both evaluate that function on an internal grid as well:
+uniform over the sweep and dense around the speeds where the regressive lag
+mode meets a body mode (the tuning speeds Omega (1 - nu) = omega_b), where
+ground resonance lives. A range narrower than the grid still shows as a
+local maximum of the function, which :func:`zoom_max` refines; the ends of
+a range come from root finding (:func:`crossing`), never from the grid.
+Every function here takes ``fun(speeds) -> values`` on arrays, so that a
+batch of speeds costs one call (one batched integration for Floquet).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import brentq
+
+#: Internal grid (uniform points, points around each tuning speed) per kind of
+#: analysis; a Floquet sweep of n points adds max(0, 48 - n/2) uniform ones (a
+#: sweep that fine needs no more) and 24 around each tuning speed (8 beyond 100 points).
+GRID = {"eigen": (1000, 200), "floquet": (48, 24)}
+#: Tuning clusters span [t / CLUSTER_WIDTH, t * CLUSTER_WIDTH], geometrically spaced.
+CLUSTER_WIDTH = 1.5
+#: Relative accuracy of a refined peak's speed.
+PEAK_XTOL = {"eigen": 1e-7, "floquet": 1e-4}
+
+
+def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
+    """Internal speeds [rad/s] over the sweep, beside (not including) the sweep's own.
+
+    Parameters
+    ----------
+    speeds : ndarray
+        The sweep, increasing [rad/s].
+    tuning : iterable of float
+        Tuning speeds [rad/s]; those inside the sweep get a dense cluster.
+    kind : "eigen" or "floquet"
+        Sets the grid size (:data:`GRID`): a Floquet speed costs an integration.
+
+    Between the rotor at rest and the first speed that turns, no probe lies
+    below half that speed (a periodic analysis just above rest is the
+    costliest of the sweep, and nothing turns there).
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    lo, hi = speeds[0], speeds[-1]
+    uniform, cluster = GRID[kind]
+    if kind == "floquet":  # every Floquet speed is an integration: what the sweep lacks
+        uniform, cluster = max(0, uniform - len(speeds) // 2), (cluster if len(speeds) < 100 else 8)
+    parts = [np.linspace(lo, hi, uniform)] if uniform > 1 else []
+    for t in tuning:
+        if t is not None and lo < t < hi:
+            a, b = max(lo, t / CLUSTER_WIDTH), min(hi, t * CLUSTER_WIDTH)
+            parts.append(np.geomspace(max(a, 1e-300), b, cluster))
+    probe = np.unique(np.concatenate(parts)) if parts else np.zeros(0)
+    moving = speeds[speeds > 0]
+    if len(moving):
+        probe = probe[(probe >= 0.5 * moving.min()) & (probe > lo) & (probe < hi)]
+    return np.setdiff1d(probe, speeds)
+
+
+def local_maxima(values, count: int) -> np.ndarray:
+    """Indices of the ``count`` largest local maxima of a sampled function (ends included)."""
+    v = np.asarray(values, dtype=float)
+    if len(v) == 1:
+        return np.array([0])
+    left = np.r_[True, v[1:] >= v[:-1]]
+    right = np.r_[v[:-1] >= v[1:], True]
+    idx = np.flatnonzero(left & right)
+    # of a flat run keep one
+    idx = idx[np.r_[True, np.diff(idx) > 1]] if len(idx) else idx
+    return idx[np.argsort(-v[idx], kind="stable")][:count]
+
+
+def zoom_max(fun, lo: float, hi: float, xtol: float, points: int = 9, rounds: int = 40):
+    """Largest value of ``fun`` on [lo, hi] and where: (value, speed).
+
+    Evaluates ``points`` speeds, keeps the neighbourhood of the best and
+    repeats (the bracket shrinks by (points - 1) / 2 each round) until it is
+    narrower than ``xtol`` relative to ``hi``; then a parabola through the
+    best three gives the peak, kept if it is higher.
+    """
+    best_v, best_w = -np.inf, lo
+    for _ in range(rounds):
+        w = np.linspace(lo, hi, points)
+        v = np.asarray(fun(w), dtype=float)
+        i = int(np.argmax(v))
+        if v[i] > best_v:
+            best_v, best_w = float(v[i]), float(w[i])
+        step = w[1] - w[0]
+        if step <= xtol * max(abs(hi), 1e-300):
+            if 0 < i < points - 1:
+                denom = v[i - 1] - 2 * v[i] + v[i + 1]
+                if denom < 0:
+                    x = w[i] + 0.5 * step * (v[i - 1] - v[i + 1]) / denom
+                    vx = float(np.asarray(fun(np.array([x])), dtype=float)[0])
+                    if vx > best_v:
+                        best_v, best_w = vx, float(x)
+            break
+        lo, hi = max(lo, best_w - step), min(hi, best_w + step)
+    return best_v, best_w
+
+
+def crossing(fun, lo: float, hi: float) -> float:
+    """Where ``fun`` (scalar speeds) changes sign in [lo, hi], to 1e-10 relative."""
+    return float(brentq(lambda w: float(fun(np.array([w]))[0]), lo, hi, xtol=1e-12, rtol=1e-10))
+
+
+def bracket(grid, i):
+    """Neighbours of grid point i (never below half the first speed that turns)."""
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+    if lo <= 0 < grid[i]:
+        lo = 0.5 * grid[i]
+    return lo, hi
+
+
+class PeakWatch:
+    """The largest value of ``fun(parameter, speeds)`` over speed, for one parameter after another.
+
+    A full scan evaluates the grid and refines its largest local maxima; the
+    peaks found are kept with their grid brackets, so that the next
+    parameter (the next lag damping of a search) looks there first: the
+    worst speed moves little from one damping to the next, and only a full
+    scan can show that no peak is positive.
+    """
+
+    def __init__(self, fun, grid, kind, seeds=(), peaks=None):
+        self.fun, self.grid, self.kind = fun, np.asarray(grid, float), kind
+        self.xtol = PEAK_XTOL[kind]
+        self.peaks = peaks or (8 if kind == "eigen" else 3)
+        self.brackets = [self._around(w) for w in seeds]
+        self.scanned = None  # the parameter of the last full scan
+
+    def _around(self, w):
+        i = int(np.clip(np.searchsorted(self.grid, w), 0, len(self.grid) - 1))
+        lo, hi = bracket(self.grid, i)
+        return [min(lo, w), max(hi, w), w]
+
+    def _refine(self, p, span):
+        """Peak in a watched span [lo, hi, last peak] (the grid bracket it came
+        from: a peak that leaves it is found again by the next full scan)."""
+        top, at = zoom_max(lambda w: self.fun(p, w), span[0], span[1], self.xtol)
+        span[2] = at
+        return top, at
+
+    def watched(self, p):
+        """Largest value over the watched peaks (-inf if none).
+
+        The last peaks are tried first, in one call: where one is still
+        positive the verdict needs no refinement; else the highest is refined.
+        """
+        if not self.brackets:
+            return -np.inf
+        last = np.asarray(self.fun(p, np.array([span[2] for span in self.brackets])), float)
+        if last.max() > 0:
+            return float(last.max())
+        # the highest of them refined (the others lie well below it, or a full scan will tell)
+        k = int(np.argmax(last))
+        top, _ = self._refine(p, self.brackets[k])
+        self.brackets.insert(0, self.brackets.pop(k))
+        return max(top, float(last.max()))
+
+    def full(self, p):
+        """Largest value from a full scan; the scan's peaks are watched from now on.
+
+        The highest local maximum is refined, and the others where they could
+        rise above zero by four times what refining gained on it.
+        """
+        self.scanned = p
+        values = np.asarray(self.fun(p, self.grid), float)
+        best, gain, spans = float(values.max()), None, []
+        for i in local_maxima(values, self.peaks):
+            lo, hi = bracket(self.grid, i)
+            span = [lo, hi, self.grid[i]]
+            if hi > lo and (gain is None or values[i] + 4 * gain > 0):
+                top, _ = self._refine(p, span)
+                best = max(best, top)
+                gain = max(gain or 0.0, top - values[i])
+            spans.append(span)
+        kept = [b for b in self.brackets if all(abs(b[2] - s[2]) > 4 * self.xtol * abs(s[2]) for s in spans)]
+        self.brackets = (spans + kept)[: 2 * self.peaks]
+        return best
