@@ -22,7 +22,7 @@ import numpy as np
 from . import floquet, identify, limits, modal, scan, stability
 from .identify import Modes
 from .limits import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
-from .params import Case
+from .params import SPEED_UNITS, Case
 from .results import SweepResult
 from .system import System
 
@@ -341,14 +341,18 @@ def analyze(
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
     unit = limits.mass_unit(case.rotor, case.body)
     system = System(*limits.in_mass_unit(case.rotor, case.body, unit))
-    limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold)
+    unit_of_speed = (case.sweep.unit, SPEED_UNITS[case.sweep.unit])
+    limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold, unit_of_speed)
     solver = _SOLVERS[form](system, unit)
     solver.fit_speed = float(max(speeds.max(), 1e-3))
     deutsch = _deutsch(system, unit)
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
     if solver.kind == "floquet":
         low = _lowest_search_speed(deutsch)
-        _check_floquet_work(solver, speeds, probe, _search_grid(speeds, probe, True, low))
+        search = _search_grid(speeds, probe, True, low)
+        _check_floquet_work(
+            solver, speeds, probe, search, unit_of_speed, time_invariant_form(case) is not None
+        )
     report = progress or (lambda stage, done, total: None)
     report("sweep", 0, len(speeds))
     modes = solver.identify(solver.sweep(speeds, lambda done, total: report("sweep", done, total)), speeds)
@@ -370,6 +374,7 @@ def analyze(
         probe,
         solver.kind,
         closeness=solver.closeness,
+        floor=lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
     )
     report("range ends", 1, 1)
     accuracy = {
@@ -382,7 +387,7 @@ def analyze(
         },
     }
     report("lag damping", 0, None)
-    exact = _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed)
+    exact, no_exact = _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed)
     report("lag damping", 1, 1)
     return SweepResult(
         case=case,
@@ -393,6 +398,7 @@ def analyze(
         stability=assessed,
         deutsch=deutsch,
         exact_lag_damping=exact,
+        no_exact_lag_damping=no_exact,
         coordinates=solver.nr_coords,
         weights=solver.weights(speeds),
         accuracy=accuracy,
@@ -427,7 +433,7 @@ RTOL = {"eigen": 1e-4, "floquet": 1e-3}
 _SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
 
 
-def _check_floquet_work(solver, speeds, probe, search):
+def _check_floquet_work(solver, speeds, probe, search, speed_unit, time_invariant):
     """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
 
     Sweep (with its lifted problems), the internal grid, the damping search
@@ -440,7 +446,29 @@ def _check_floquet_work(solver, speeds, probe, search):
     scans, per = limits.floquet_work(system, search, lift=False)
     typical = scans / max(len(search), 1)
     work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
-    limits.check_floquet_work(work, steps, speeds)
+    limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
+
+
+#: Work [steps of a 12-state system] one Floquet analysis below the sweep's
+#: first turning speed may cost while a range's start is followed down to rest
+#: (some twenty such analyses at most: well inside the work limit).
+REST_BUDGET = limits.FLOQUET_WORK_LIMIT / 50
+
+
+def lowest_periodic_speed(system, speeds, probe) -> float:
+    """Lowest speed [rad/s] a Floquet analysis looks at between rest and the
+    first turning speed of the sweep and its grid, where a range is open there
+    (:func:`groundres.stability.find_ranges`): the slowest of first / 2^k whose
+    analysis costs at most :data:`REST_BUDGET` (the cost grows as 1/speed)."""
+    grid = np.union1d(speeds, probe)
+    moving = grid[grid > 0]
+    if not len(moving):
+        return 0.0
+    first = float(moving.min())
+    w = first * 2.0 ** -np.arange(1, stability.REST_HALVINGS + 1)
+    work, _ = limits.floquet_work_per_speed(system, w, lift=False)
+    ok = np.flatnonzero(work <= REST_BUDGET)
+    return float(w[ok[-1]]) if len(ok) else first
 
 
 def _lowest_search_speed(deutsch):
@@ -471,11 +499,20 @@ def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
     installed >= the result exactly when the sweep is stable. A sweep
     unstable wholly below that speed has no answer (None): lag damping does
     not decide its stability there.
+
+    Returns
+    -------
+    value : float or None
+        [N m s/rad] in SI.
+    why_none : tuple or None
+        Where ``value`` is None: ("below", speed [rad/s]) for a sweep unstable
+        below the search's lowest speed, ("cap", damping [N m s/rad]) where no
+        damping up to the largest tried makes it stable.
     """
     periodic = solver.kind == "floquet"
     low = _lowest_search_speed(deutsch)
     if any(b < low for _, b in assessed.unstable_ranges):
-        return None
+        return None, ("below", low)
     blades = case.rotor.blades
     installed = max(b.lag_damping for b in blades)
     inertia = max(b.blade_inertia for b in blades)
@@ -485,9 +522,17 @@ def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
     tau = float(stability.growth_threshold(np.array([speeds.min(), speeds.max()])).min())
     resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
     top = speeds.max()
+    finite = [
+        e.required_lag_damping
+        for e in deutsch
+        if e.required_lag_damping not in (None, np.inf)
+        and e.tuning_speed is not None
+        and speeds.min() <= e.tuning_speed <= top
+    ]
+    # (and four times the Deutsch requirement of a resonance the sweep reaches,
+    # whatever the installed damper)
     cap = (20 if periodic else 100) * max(installed, 2 * inertia * top * (0.05 if periodic else 1.0))
-    cap = min(cap, resolved)
-    finite = [e.required_lag_damping for e in deutsch if e.required_lag_damping not in (None, np.inf)]
+    cap = min(max([cap] + [4 * f for f in finite]), resolved)
     guess = min(max(finite) if finite else max(installed, inertia * top * 1e-3), 0.5 * cap)
     guess = max(guess, 1e-12 * cap)
     # the installed dampers belong to the family searched when the working ones are equal
@@ -503,7 +548,7 @@ def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
             trials[lag_damping] = solver.with_lag_damping(lag_damping)
         return trials[lag_damping].growth(w) - stability.growth_threshold(w)
 
-    return stability.minimum_lag_damping(
+    value = stability.minimum_lag_damping(
         excess,
         _search_grid(speeds, probe, periodic, low),
         guess,
@@ -513,3 +558,4 @@ def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
         seeds=assessed.peak_speeds,
         kind=solver.kind,
     )
+    return value, (("cap", cap) if value is None else None)

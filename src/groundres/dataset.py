@@ -13,6 +13,7 @@ import numpy as np
 
 from ._version import __version__
 from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+from .summary import open_below_note
 
 CONVENTIONS = "CF-1.10"
 
@@ -219,7 +220,12 @@ def dataset(result):
         "unstable_range": (
             ("range", "end"),
             np.array(st.unstable_ranges, float).reshape(-1, 2),
-            {"units": "rad/s", "long_name": "rotor-speed range in which some root grows"},
+            {"units": "rad/s", "long_name": "rotor-speed range in which some root grows"}
+            | (
+                {}
+                if st.open_below is None
+                else {"comment": "first range: " + open_below_note(f"{st.open_below:.6g} rad/s")}
+            ),
         ),
         "unstable_range_modes": (
             ("range",),

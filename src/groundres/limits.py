@@ -130,8 +130,9 @@ class RateSource:
         return self.coefficient * rate**self.power
 
 
-def rate_sources(rotor: Rotor, body: Body, top_speed: float) -> list[RateSource]:
-    """Rates [1/s] the parameters of a case set on their own (dampers, springs, speed)."""
+def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s", 1.0)) -> list[RateSource]:
+    """Rates [1/s] the parameters of a case set on their own (dampers, springs, speed);
+    the stop speed [rad/s] is named in ``speed_unit`` (name, rad/s per unit)."""
     out = []
     many = not rotor.identical
     for k, b in enumerate(rotor.blades if many else rotor.blades[:1]):
@@ -175,7 +176,8 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float) -> list[RateSource]
                 False,
             )
         )
-    out.append(RateSource("[sweep] stop", top_speed, "rad/s", 1, 1.0, "the rotor speed", True))
+    name, factor = speed_unit
+    out.append(RateSource("[sweep] stop", top_speed / factor, name, 1, 1.0 / factor, "the rotor speed", True))
     return out
 
 
@@ -222,7 +224,13 @@ def fastest_rate(system, speeds) -> np.ndarray:
     return np.abs(roots).max(-1).max(0)
 
 
-def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> None:
+def speed_text(w: float, speed_unit=("rad/s", 1.0)) -> str:
+    """A speed [rad/s] in a case's unit (name, rad/s per unit), with rad/s beside it."""
+    name, factor = speed_unit
+    return f"{w:.4g} rad/s" if factor == 1.0 else f"{w / factor:.4g} {name} ({w:.4g} rad/s)"
+
+
+def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_unit=("rad/s", 1.0)) -> None:
     """Refuse a case whose round-off would exceed the growth threshold (module docstring).
 
     Parameters
@@ -235,6 +243,8 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> Non
         The sweep [rad/s].
     threshold : callable
         Growth threshold [1/s] at given speeds.
+    speed_unit : (str, float)
+        The case's speed unit and its size [rad/s], for the message.
 
     Raises
     ------
@@ -244,7 +254,7 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> Non
     ends = np.array([speeds.min(), speeds.max()])
     tau = threshold(ends)
     allowed = tau / (ROUND_OFF * EPS)  # fastest rate resolved at each end [1/s]
-    sources = rate_sources(rotor, body, float(ends[-1]))
+    sources = rate_sources(rotor, body, float(ends[-1]), speed_unit)
     excess = [src.rate / allowed[int(src.at_top)] for src in sources]
     worst = sources[int(np.argmax(excess))]
     if max(excess) > 1.0:
@@ -268,12 +278,26 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold) -> Non
         limit = ""
     raise ModelRangeError(
         f"{head}, so its real parts carry round-off of about {ROUND_OFF * EPS * rate:.2g} 1/s, above the "
-        f"growth threshold ({tau[end]:.2g} 1/s at {ends[end]:.4g} rad/s): growth could not be told from "
-        f"round-off. The model resolves rates up to {allowed[end]:.3g} 1/s at that speed{limit}"
+        f"growth threshold ({tau[end]:.2g} 1/s at {speed_text(ends[end], speed_unit)}): growth could not "
+        f"be told from round-off. The model resolves rates up to {allowed[end]:.3g} 1/s at that speed{limit}"
     )
 
 
 # -- work of a periodic analysis ---------------------------------------------------
+
+
+def floquet_work_per_speed(system, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Estimated work of a Floquet analysis at each speed and its steps per period (:func:`floquet_work`)."""
+    from .floquet import estimated_cost
+    from .transition import DOP8, GRID_CACHE_SIZE
+
+    steps, rows = estimated_cost(system, speeds, lift)
+    n = system.size
+    # a grid too fine to keep has its coefficient matrices formed again for every
+    # speed and every pass, which costs about four times the steps themselves
+    fresh = steps * len(DOP8.c) * n * 2 * n * 3 > GRID_CACHE_SIZE
+    per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
+    return steps * per_step + _EIG_PER_STEP * rows**3, steps
 
 
 def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tuple[float, np.ndarray]:
@@ -287,29 +311,32 @@ def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tup
     steps : ndarray (n_s,)
         Estimated integration steps over one (reduced) period at each speed.
     """
-    from .floquet import estimated_cost
-    from .transition import DOP8, GRID_CACHE_SIZE
-
-    steps, rows = estimated_cost(system, speeds, lift)
-    n = system.size
-    # a grid too fine to keep has its coefficient matrices formed again for every
-    # speed and every pass, which costs about four times the steps themselves
-    fresh = steps * len(DOP8.c) * n * 2 * n * 3 > GRID_CACHE_SIZE
-    per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
-    work = (steps * per_step).sum() + _EIG_PER_STEP * (rows**3).sum()
-    return float(repeats * work), steps
+    each, steps = floquet_work_per_speed(system, speeds, lift)
+    return float(repeats * each.sum()), steps
 
 
-def check_floquet_work(work: float, steps, speeds, what: str = "this sweep") -> None:
-    """Refuse Floquet work above :data:`FLOQUET_WORK_LIMIT`, with the estimate and what to change."""
+def check_floquet_work(
+    work: float, steps, speeds, what: str = "this sweep", speed_unit=("rad/s", 1.0), time_invariant=None
+) -> None:
+    """Refuse Floquet work above :data:`FLOQUET_WORK_LIMIT`, with the estimate and what to change.
+
+    ``speed_unit`` (name, rad/s per unit) names speeds as the case does;
+    ``time_invariant`` says whether the case has a time-invariant form (then
+    method = 'auto' is advised), None if not known.
+    """
     if work <= FLOQUET_WORK_LIMIT:
         return
     speeds = np.asarray(speeds, dtype=float)
     i = int(np.argmax(steps))
+    advice = {
+        True: "; this case has a time-invariant form: method = 'auto' analyses it in seconds",
+        False: "",
+        None: ", or method = 'auto' where the case has a time-invariant form",
+    }[time_invariant]
     raise ModelRangeError(
         f"[sweep] Floquet analysis of {what} needs an estimated {work:.2g} integration steps "
         f"(in steps of a 12-state system; {len(speeds)} speeds, up to {steps[i]:.3g} steps per period "
-        f"at {speeds[i]:.4g} rad/s), above the limit of {FLOQUET_WORK_LIMIT:.2g} (a few minutes): "
-        "use fewer points or start the sweep higher (the steps per period grow as 1/speed), "
-        "or method = 'auto' where the case has a time-invariant form"
+        f"at {speed_text(speeds[i], speed_unit)}), above the limit of {FLOQUET_WORK_LIMIT:.2g} "
+        "(a few minutes): use fewer points or start the sweep higher (the steps per period grow as "
+        "1/speed)" + advice
     )

@@ -34,7 +34,12 @@ class SweepResult:
     deutsch : list of DeutschEntry
     exact_lag_damping : float or None
         Smallest lag damping (all blades) that makes the sweep stable [N m s/rad],
-        found from the eigenvalues; None if no value up to a large cap does.
+        found from the roots; None if no value up to a large cap does, or if
+        the sweep is unstable where lag damping decides nothing.
+    no_exact_lag_damping : tuple or None
+        Why ``exact_lag_damping`` is None: ("cap", largest damping tried
+        [N m s/rad]) or ("below", speed [rad/s] below which the sweep is
+        unstable and the search does not look: half the lowest body frequency).
     coordinates : list of Coordinate
         Nonrotating coordinates of the mode shapes (``modes.shape``).
     weights : ndarray (n_s, n)
@@ -54,6 +59,7 @@ class SweepResult:
     exact_lag_damping: float | None
     coordinates: list
     weights: np.ndarray | None = None
+    no_exact_lag_damping: tuple | None = None
     accuracy: dict | None = None
 
     @property

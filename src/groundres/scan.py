@@ -39,9 +39,10 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
     kind : "eigen" or "floquet"
         Sets the grid size (:data:`GRID`): a Floquet speed costs an integration.
 
-    Between the rotor at rest and the first speed that turns, no probe lies
-    below half that speed (a periodic analysis just above rest is the
-    costliest of the sweep, and nothing turns there).
+    For a Floquet analysis no probe lies below half the first speed that
+    turns (a periodic analysis just above rest is the costliest of the sweep);
+    a range open there is followed down by
+    :func:`groundres.stability.find_ranges` within a work budget.
     """
     speeds = np.asarray(speeds, dtype=float)
     lo, hi = speeds[0], speeds[-1]
@@ -55,8 +56,9 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
             parts.append(np.geomspace(max(a, 1e-300), b, cluster))
     probe = np.unique(np.concatenate(parts)) if parts else np.zeros(0)
     moving = speeds[speeds > 0]
-    if len(moving):
-        probe = probe[(probe >= 0.5 * moving.min()) & (probe > lo) & (probe < hi)]
+    if kind == "floquet" and len(moving):
+        probe = probe[probe >= 0.5 * moving.min()]
+    probe = probe[(probe > lo) & (probe < hi)]
     return np.setdiff1d(probe, speeds)
 
 

@@ -67,12 +67,18 @@ class Stability:
         Smallest damping ratio [-] over the sweep and its speed [rad/s].
     peak_speeds : tuple of float
         Speed [rad/s] of the largest real part inside each unstable range.
+    open_below : float or None
+        Where the first range begins at the lowest speed the analysis reaches
+        above rest (a periodic analysis costs more the slower the rotor: see
+        :func:`groundres.analysis.lowest_periodic_speed`), that speed [rad/s]:
+        the range may begin lower. None otherwise.
     """
 
     unstable_ranges: list
     max_real_part: tuple
     min_damping_ratio: tuple
     peak_speeds: tuple = ()
+    open_below: float | None = None
 
     @property
     def stable(self) -> bool:
@@ -96,7 +102,7 @@ def _refine_max(fun, speeds, values, i, xtol=1e-6):
     return float(values[i]), float(speeds[i])
 
 
-def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
+def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, floor=0.0):
     """Intervals where ``excess`` (largest real part minus the growth threshold) is positive.
 
     Parameters
@@ -119,6 +125,9 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
         has no bump outside it (its roots are neutral until they meet), but
         its roots approach: the deepest local minima of the closeness are
         refined to where the roots meet, and the growth is probed beside it.
+    floor : float
+        Lowest speed [rad/s] analysed between rest and the grid's first turning
+        speed (:func:`_start_above_rest`); 0 for no limit but round-off.
 
     Returns
     -------
@@ -126,10 +135,14 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
         Interior ends to 1e-10 relative; ranges open at an end of the grid report that end.
     peak_speeds : list of float
         Speed of the largest excess inside each range.
+    open_below : float or None
+        The first range's start where it grows at the lowest speed tried above
+        rest (``floor``): the range may begin lower.
     """
     grid, values = np.asarray(grid, float), np.asarray(values, float)
     n = len(grid)
     found = []  # (start, end, peak speed, peak value)
+    open_at = None
     i = 0
     while i < n:
         if values[i] <= 0:
@@ -138,7 +151,12 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
         j = i
         while j + 1 < n and values[j + 1] > 0:
             j += 1
-        start = grid[0] if i == 0 else _end(excess, scan.bracket(grid, i)[0], grid[i])
+        if i == 0:
+            start = grid[0]
+        elif grid[i - 1] <= 0:  # the range begins somewhere between rest and grid[i]
+            start, open_at = _start_above_rest(excess, grid[i], floor)
+        else:
+            start = _end(excess, grid[i - 1], grid[i])
         end = grid[-1] if j == n - 1 else scan.crossing(excess, grid[j], grid[j + 1])
         k = i + int(np.argmax(values[i : j + 1]))
         found.append([float(start), float(end), float(grid[k]), float(values[k])])
@@ -173,7 +191,8 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None):
             at = float(probe[int(np.argmax(v))])
             start, end = _end(excess, lo, at), _end(lambda w: excess(-np.asarray(w)), -hi, -at)
             found.append([float(start), -float(end), at, float(v.max())])
-    return _merged(found)
+    ranges, peaks = _merged(found)
+    return ranges, peaks, (open_at if ranges and open_at is not None and ranges[0][0] == open_at else None)
 
 
 def _merged(found):
@@ -188,6 +207,33 @@ def _merged(found):
         else:
             out.append([a, b, w, v])
     return [(a, b) for a, b, _, _ in out], [w for _, _, w, _ in out]
+
+
+#: Halvings of the first turning speed tried below it, at most (2^-40: round-off).
+REST_HALVINGS = 40
+
+
+def _start_above_rest(excess, first, floor):
+    """Where a range that is open at ``first`` (the grid's first speed above
+    rest) begins: the speeds first / 2, first / 4, ... down to ``floor`` are
+    tried in one call, then the crossing refined between the last stable one
+    and the next. A range still growing at the lowest speed tried starts there
+    (:attr:`Stability.open_below` says so).
+
+    Returns
+    -------
+    (start, open_at) : (float, float or None)
+        ``open_at`` is ``start`` where the range is still open there.
+    """
+    floor = max(floor, first * 2.0**-REST_HALVINGS)
+    count = max(1, int(np.floor(np.log2(first / floor))))
+    w = first * 2.0 ** -np.arange(1, count + 1)
+    v = np.asarray(excess(w), float)
+    calm = np.flatnonzero(v <= 0)
+    if not len(calm):
+        return float(w[-1]), float(w[-1])
+    j = int(calm[0])
+    return scan.crossing(excess, float(w[j]), float(first if j == 0 else w[j - 1])), None
 
 
 def _end(excess, lo, hi):
@@ -207,6 +253,7 @@ def assess(
     probe=None,
     kind="eigen",
     closeness=None,
+    floor=0.0,
 ):
     """Unstable ranges and refined worst values for a sweep.
 
@@ -225,6 +272,8 @@ def assess(
     kind : "eigen" or "floquet"
     closeness : callable, optional
         Nearest approach of two roots at given speeds (:func:`find_ranges`).
+    floor : float
+        Lowest speed [rad/s] analysed above rest (:func:`find_ranges`).
     """
     speeds = np.asarray(speeds, float)
     probe = np.zeros(0) if probe is None else np.asarray(probe, float)
@@ -237,7 +286,9 @@ def assess(
         w = np.asarray(w, float)
         return growth(w) - growth_threshold(w)
 
-    ranges, peak_speeds = find_ranges(grid, values, excess, kind, closeness=closeness)
+    ranges, peak_speeds, open_below = find_ranges(
+        grid, values, excess, kind, closeness=closeness, floor=floor
+    )
     i = int(np.argmax(values))
     sweep_i = int(np.argmin(np.abs(speeds - grid[i])))
     xtol = 1e-6
@@ -265,6 +316,7 @@ def assess(
         max_real_part=worst,
         min_damping_ratio=(-low[0], low[1]),
         peak_speeds=tuple(peak_speeds),
+        open_below=open_below if ranges and open_below == ranges[0][0] else None,
     )
 
 

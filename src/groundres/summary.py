@@ -58,6 +58,36 @@ def put(out: dict, key: str, value, reason: str) -> dict:
     return out
 
 
+def open_below_note(speed_text: str) -> str:
+    """What a range open at the lowest speed a periodic analysis reaches means."""
+    return (
+        f"still growing at {speed_text}, the lowest speed above rest the Floquet analysis "
+        "affords (its cost grows as 1/speed): the range may begin lower"
+    )
+
+
+def _range(result, start, end) -> dict:
+    out = {"start": start, "end": end, "modes": result.unstable_modes(start, end)}
+    if result.stability.open_below is not None and start == result.stability.open_below:
+        out["start_note"] = open_below_note(f"{start:.6g} rad/s")
+    return out
+
+
+def no_exact_reason(result, speed) -> str:
+    """Why a result has no exact minimum lag damping, ``speed(w)`` writing a speed [rad/s]."""
+    kind, value = result.no_exact_lag_damping or ("cap", None)
+    if kind == "below":
+        return (
+            f"the sweep is unstable below {speed(value)} (half the lowest body frequency), where the "
+            "regressive lag mode meets no body mode: lag damping does not decide stability there"
+        )
+    upto = f" {value:.4g} N m s/rad" if value is not None else " the largest tried"
+    return (
+        f"no lag damping up to{upto} (the largest the search tries: many times the Deutsch value "
+        "and the installed damper) makes the sweep stable with the installed body damping"
+    )
+
+
 def summary(result) -> dict:
     """The summary.json content of a :class:`~groundres.results.SweepResult`."""
     st = result.stability
@@ -73,9 +103,7 @@ def summary(result) -> dict:
         "speed_unit": "rad/s",
         "units": dict(UNITS),
         "stable": st.stable,
-        "unstable_ranges": [
-            {"start": s, "end": e, "modes": result.unstable_modes(s, e)} for s, e in st.unstable_ranges
-        ],
+        "unstable_ranges": [_range(result, s, e) for s, e in st.unstable_ranges],
         "max_real_part": _max_real_part(result),
         "min_damping_ratio": _min_damping_ratio(result),
         "growth_threshold_per_radian": GROWTH_PER_RADIAN,
@@ -112,13 +140,7 @@ def summary(result) -> dict:
         "per_blade": [float(b.lag_damping) for b in case.rotor.blades],
         "failed_dampers": failed,
     }
-    put(
-        lag,
-        "exact_minimum",
-        result.exact_lag_damping,
-        "no lag damping up to a large multiple of the Deutsch value and the installed damper "
-        "makes the sweep stable with the installed body damping",
-    )
+    put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
     lag["exact_minimum_note"] = (
         "smallest lag damping, set on every working damper (on every blade when none has "
         "one), for which no root grows anywhere in the sweep (eigenvalues; body damping "

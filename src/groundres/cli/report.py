@@ -9,6 +9,7 @@ values within the growth threshold of zero print as neutral, not as numbers
 from __future__ import annotations
 
 from ..params import FREQUENCY_UNITS
+from ..summary import no_exact_reason, open_below_note
 from .common import fmt_speed, plain, ref_note
 
 
@@ -58,8 +59,18 @@ def unstable_table(summary: dict, sweep):
         table.add_column(plain(header))
     for r in summary["unstable_ranges"]:
         modes = plain(", ".join(r["modes"]))
-        table.add_row(_speed_cell(r["start"], sweep), _speed_cell(r["end"], sweep), modes)
+        start = ("<= " if "start_note" in r else "") + _speed_cell(r["start"], sweep)
+        table.add_row(start, _speed_cell(r["end"], sweep), modes)
     return table
+
+
+def range_notes(summary: dict, sweep) -> list[str]:
+    """Lines explaining a range whose start is only a bound (:func:`groundres.summary.open_below_note`)."""
+    return [
+        f"<= {fmt_speed(r['start'], sweep)}: {open_below_note(fmt_speed(r['start'], sweep))}."
+        for r in summary["unstable_ranges"]
+        if "start_note" in r
+    ]
 
 
 def _speed_cell(w, sweep, digits=5, sep=" ") -> str:
@@ -190,6 +201,8 @@ def print_result(console, result, out_dir) -> None:
     else:
         console.print()
         console.print(unstable_table(summary, sweep))
+        for line in range_notes(summary, sweep):
+            console.print(plain(line))
     console.print(worst_values(summary, sweep))
     console.print()
     console.print(deutsch_table(summary, sweep))
@@ -200,10 +213,8 @@ def print_result(console, result, out_dir) -> None:
     which = "every blade" if result.case.rotor.identical else "every working damper"
     installed = f"installed: {_installed(lag)}"
     if exact is None:
-        console.print(
-            f"Exact minimum lag damping (on {which}): none, up to a large multiple of the installed "
-            f"damper, makes the sweep stable with the installed body damping ({installed})."
-        )
+        why = no_exact_reason(result, lambda w: fmt_speed(w, sweep))
+        console.print(f"Exact minimum lag damping (on {which}): none: {why} ({installed}).")
     elif exact == 0:
         console.print(f"Exact minimum lag damping: 0, the sweep is stable without lag damping ({installed}).")
     else:
