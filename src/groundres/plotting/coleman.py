@@ -39,6 +39,8 @@ _COLOURS = {
 _EXTRA = ["#ff9896", "#98df8a", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d", "#9edae5", "#ffbb78"]
 #: A small unstable bump: the largest positive real part below this share of the span.
 _SMALL_BUMP = 0.06
+#: A range narrower than this share of the speed axis is also marked by a line and a triangle.
+_NARROW = 0.005
 
 
 def label_colour(label: str, i: int = 0) -> str:
@@ -226,9 +228,24 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         ax_z = None
     panels = [ax for ax in (ax_f, ax_d, ax_z) if ax is not None]
 
+    x_span = (w[-1] - w[0]) / factor if len(w) > 1 else 1.0
+    narrow = []  # ranges too narrow to see as a band: a line and a marker each
     for s, e in result.stability.unstable_ranges:
         for ax in panels:
             ax.axvspan(s / factor, e / factor, color="#d62728", alpha=0.12, lw=0)
+        if (e - s) / factor < _NARROW * x_span:
+            narrow.append(0.5 * (s + e) / factor)
+            for ax in panels:
+                ax.axvline(narrow[-1], color="#d62728", alpha=0.5, lw=0.8)
+            ax_f.plot(
+                [narrow[-1]],
+                [1.0],
+                "v",
+                color="#d62728",
+                ms=7,
+                transform=ax_f.get_xaxis_transform(),
+                clip_on=False,
+            )
     n_s = len(w)
     succ = modes.successor() if n_s > 1 else np.zeros((0, len(result.labels)), int)
     exchange = modes.exchange
@@ -338,5 +355,8 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
 
         handles.append(Patch(color="#d62728", alpha=0.12))
         labels.append("unstable range")
+    if narrow:
+        handles.append(Line2D([], [], color="#d62728", marker="v", ms=7, lw=0.8, alpha=0.7))
+        labels.append(f"narrow unstable range\n(under {_NARROW:.1%} of the axis)")
     fig.legend(handles, labels, loc="outside right center", fontsize=9, frameon=False)
     return fig
