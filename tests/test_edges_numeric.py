@@ -385,13 +385,12 @@ def test_range_starting_below_the_first_turning_speed_is_followed_down():
 def test_range_open_at_the_lowest_affordable_floquet_speed_says_so(monkeypatch):
     """With a work budget that stops the descent near 0.5 rad/s the range still
     grows there: its start is reported as a bound, in summary.json too."""
-    import groundres.analysis as analysis
     from groundres.summary import summary
 
     case = parse_case(tomllib.loads(LOW_START))
     system = System(case.rotor, case.body)
-    work, _ = analysis.limits.floquet_work_per_speed(system, np.array([0.5]), lift=False)
-    monkeypatch.setattr(analysis, "REST_BUDGET", float(work[0]) * 1.01)
+    work, _ = limits.floquet_work_per_speed(system, np.array([0.5]), lift=False)
+    monkeypatch.setattr(limits, "REST_BUDGET", float(work[0]) * 1.01)
     flq = analyze(case, method="floquet")
     first = flq.stability.unstable_ranges[0][0]
     assert flq.stability.open_below == first and 0.4 <= first <= 1.0
@@ -450,3 +449,32 @@ def test_floquet_refusal_speaks_the_case_unit_and_fits_its_advice():
     assert "0.2625 Hz (1.649 rad/s)" in message and "method = 'auto'" not in message
     with pytest.raises(ModelRangeError, match="time-invariant form: method = 'auto'"):
         limits.check_floquet_work(3e6, np.ones(2), np.ones(2), time_invariant=True)
+
+
+def test_smallest_damping_ratio_does_not_depend_on_the_sweep_spacing():
+    """With two sweep points soft-inplane reported a smallest damping ratio of
+    -2e-16 at 3.14 rad/s beside a largest real part of +1.43 1/s at 24.7 rad/s:
+    the worst speeds of the real part (from the internal grid) are looked at
+    too, so 2, 5 and 400 points give the same figure (to the refinement's 1e-6
+    relative in speed, the ratio to 1e-9)."""
+    fine = analyze(shipped("soft-inplane")).stability.min_damping_ratio
+    for points in (2, 5):
+        coarse = analyze(shipped("soft-inplane", sweep__points=points)).stability.min_damping_ratio
+        np.testing.assert_allclose(coarse[0], fine[0], rtol=1e-9)
+        np.testing.assert_allclose(coarse[1], fine[1], rtol=1e-6)
+    assert fine[0] < -0.1
+
+
+def test_no_exact_minimum_without_body_damping_says_why():
+    """A free body (gear springs of 0.01 N/m) without damping under an
+    articulated rotor: the Deutsch criterion asks for infinite lag damping, and
+    no damper makes the sweep stable; that answer does not depend on the
+    sweep's spacing, and the reason names the undamped body mode."""
+    from groundres.summary import summary
+
+    changes = dict(sweep__start=0.0, body__stiffness_x=0.01, body__stiffness_y=0.01, rotor__lag_stiffness=0.0)
+    for points in (2, 400):
+        result = analyze(shipped("soft-inplane", sweep__points=points, **changes))
+        assert result.exact_lag_damping is None and result.no_exact_lag_damping[0] == "cap"
+    reason = summary(result)["lag_damping"]["exact_minimum_reason"]
+    assert "x-y" in reason and "no body damping" in reason

@@ -20,8 +20,9 @@ from rich.console import Console
 from conftest import HAMMOND_BLADE, HAMMOND_HUB
 from groundres import Blade, Body, Rotor, analyze, load_case
 from groundres.cli import main, report
+from groundres.deutsch import deutsch, installed_lag_damping
 from groundres.io import MODES_CSV_HEADER
-from groundres.stability import deutsch, growth_threshold, installed_lag_damping
+from groundres.stability import growth_threshold
 
 WIDTH = 80
 

@@ -19,7 +19,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from . import floquet, identify, limits, modal, scan, stability
+from . import damping_search, floquet, identify, limits, modal, scan, stability
+from .deutsch import deutsch_in_si
 from .identify import Modes
 from .limits import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
 from .params import SPEED_UNITS, Case
@@ -97,11 +98,16 @@ class _Solver:
         value = scale_to / self.unit
         new = tuple(replace(b, lag_damping=value) if w else b for b, w in zip(blades, working))
         out = type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
-        out.fit_speed = self.fit_speed
         return out
 
-    #: Speed [rad/s] the matrices of the time-invariant form are fitted at (0, half, all of it).
-    fit_speed = 1.0
+    def _fit(self, band: float):
+        """Coefficients of the form's matrices fitted at 0, band / 2 and band [rad/s]."""
+        fits = self.__dict__.setdefault("_fits", {})
+        if band not in fits:
+            m, c, k = self.form(band * np.array([0.0, 0.5, 1.0]))
+            k1, k2 = 4 * k[1] - 3 * k[0] - k[2], 2 * (k[2] - 2 * k[1] + k[0])
+            fits[band] = (m[0], c[0], c[2] - c[0], k[0], k1, k2)
+        return fits[band]
 
     def _fitted(self, speeds):
         """The time-invariant form's matrices at any speeds from their exact quadratic dependence.
@@ -109,14 +115,22 @@ class _Solver:
         Mass is constant, damping linear and stiffness quadratic in Omega (the
         transforms add Omega and Omega^2 terms), so three speeds give them
         everywhere: a scan of thousands of speeds costs a few array products.
+        The fit's round-off is that of the matrices at its largest speed, so
+        each speed uses the fit at the power of two just above it (within a
+        factor 4 of its own matrices' round-off, at any spread of speeds).
         """
-        if getattr(self, "_fit", None) is None:
-            m, c, k = self.form(self.fit_speed * np.array([0.0, 0.5, 1.0]))
-            k1, k2 = 4 * k[1] - 3 * k[0] - k[2], 2 * (k[2] - 2 * k[1] + k[0])
-            self._fit = (m[0], c[0], c[2] - c[0], k[0], k1, k2)
-        m0, c0, c1, k0, k1, k2 = self._fit
-        x = (np.asarray(speeds, dtype=float) / self.fit_speed)[:, None, None]
-        return np.broadcast_to(m0, x.shape[:1] + m0.shape), c0 + x * c1, k0 + x * (k1 + x * k2)
+        speeds = np.asarray(speeds, dtype=float)
+        with np.errstate(divide="ignore"):
+            band = np.exp2(np.ceil(np.log2(np.maximum(speeds, 1e-300))))
+        m0 = self._fit(float(band[0]))[0] if len(speeds) else self._fit(1.0)[0]
+        m = np.broadcast_to(m0, speeds.shape + m0.shape)
+        c, k = np.empty(m.shape), np.empty(m.shape)
+        for b in np.unique(band):
+            sel = band == b
+            _, c0, c1, k0, k1, k2 = self._fit(float(b))
+            x = (speeds[sel] / b)[:, None, None]
+            c[sel], k[sel] = c0 + x * c1, k0 + x * (k1 + x * k2)
+        return m, c, k
 
     def _scan_roots(self, speeds):
         mats = self._fitted(speeds)
@@ -285,23 +299,29 @@ def root_solver(case: Case, form: str | None = None):
     return _SOLVERS[form or choose_method(case)](system, unit)
 
 
-def _damping_ratio_near(solver, modes: Modes, speeds, label: int, w: float) -> float:
-    """Damping ratio at speed ``w`` of the root that continues mode ``label``.
+def _smallest_damping_ratio_at(solver, modes: Modes, speeds, w: float) -> float:
+    """Smallest damping ratio at speed ``w`` over the roots that continue the modes.
 
-    The root nearest the mode's eigenvalue interpolated from the sweep, with
-    its frequency shifted by the multiple of Omega that brings it nearest
-    (none for a multiblade analysis, whose frequencies are unique).
+    For each mode, the root nearest its eigenvalue interpolated from the
+    sweep, with its frequency shifted by the multiple of Omega that brings it
+    nearest (none for a multiblade analysis, whose frequencies are unique:
+    there every root counts). One solve at ``w`` for all modes.
     """
-    lam = modes.eigenvalue[:, label]
-    target = complex(np.interp(w, speeds, lam.real), np.interp(w, speeds, lam.imag))
     roots = np.asarray(solver.roots(np.array([w])))[0]
     if isinstance(solver, _Multiblade):
         cand = roots.real + 1j * np.abs(roots.imag)
-    else:
-        m = np.rint((target.imag - roots.imag) / w)
-        cand = roots.real + 1j * np.abs(roots.imag + m * w)
-    best = cand[np.argmin(np.abs(cand - target))]
-    return float(identify.damping_ratio(best, scale=np.abs(cand).max()))
+        return float(identify.damping_ratio(cand, scale=np.abs(cand).max()).min())
+    lam = modes.eigenvalue  # (n_s, n_m)
+    target = np.array(
+        [
+            complex(np.interp(w, speeds, lam[:, k].real), np.interp(w, speeds, lam[:, k].imag))
+            for k in range(lam.shape[1])
+        ]
+    )
+    m = np.rint((target.imag[:, None] - roots.imag[None, :]) / w)
+    cand = roots.real[None, :] + 1j * np.abs(roots.imag[None, :] + m * w)
+    best = cand[np.arange(len(target)), np.argmin(np.abs(cand - target[:, None]), axis=1)]
+    return float(identify.damping_ratio(best, scale=np.abs(cand).max()).min())
 
 
 def analyze(
@@ -344,13 +364,12 @@ def analyze(
     unit_of_speed = (case.sweep.unit, SPEED_UNITS[case.sweep.unit])
     limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold, unit_of_speed)
     solver = _SOLVERS[form](system, unit)
-    solver.fit_speed = float(max(speeds.max(), 1e-3))
-    deutsch = _deutsch(system, unit)
+    deutsch = deutsch_in_si(system, unit)
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
     if solver.kind == "floquet":
-        low = _lowest_search_speed(deutsch)
-        search = _search_grid(speeds, probe, True, low)
-        _check_floquet_work(
+        low = damping_search.lowest_search_speed(deutsch)
+        search = damping_search.search_grid(speeds, probe, True, low)
+        damping_search.check_work(
             solver, speeds, probe, search, unit_of_speed, time_invariant_form(case) is not None
         )
     report = progress or (lambda stage, done, total: None)
@@ -361,8 +380,7 @@ def analyze(
     ratios = modes.damping_ratio
 
     def min_ratio_at(w):
-        label = int(np.argmin(ratios[np.argmin(np.abs(speeds - w))]))
-        return _damping_ratio_near(solver, modes, speeds, label, w)
+        return _smallest_damping_ratio_at(solver, modes, speeds, w)
 
     assessed = stability.assess(
         speeds,
@@ -374,7 +392,7 @@ def analyze(
         probe,
         solver.kind,
         closeness=solver.closeness,
-        floor=lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
+        floor=limits.lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
     )
     report("range ends", 1, 1)
     accuracy = {
@@ -387,7 +405,7 @@ def analyze(
         },
     }
     report("lag damping", 0, None)
-    exact, no_exact = _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed)
+    exact, no_exact = damping_search.exact_minimum(solver, case, speeds, probe, deutsch, assessed)
     report("lag damping", 1, 1)
     return SweepResult(
         case=case,
@@ -403,159 +421,3 @@ def analyze(
         weights=solver.weights(speeds),
         accuracy=accuracy,
     )
-
-
-def _deutsch(system, unit):
-    """Deutsch entries from the equations' own mass unit, dampers given back in SI."""
-    entries = stability.deutsch(system.rotor, system.body)
-    if unit == 1.0:
-        return entries
-
-    def si(x):
-        return None if x is None else x * unit
-
-    return [
-        replace(
-            e,
-            body_damping=si(e.body_damping),
-            required_lag_damping=si(e.required_lag_damping),
-            installed_lag_damping=si(e.installed_lag_damping),
-        )
-        for e in entries
-    ]
-
-
-#: Relative accuracy of the exact minimum lag damping, by kind of analysis.
-RTOL = {"eigen": 1e-4, "floquet": 1e-3}
-#: Work of a Floquet damping search beside its full scans of the grid (about
-#: four), in analyses of one speed: the bisection's refinements of the worst
-#: speeds; and of the refinements of the sweep's worst values.
-_SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
-
-
-def _check_floquet_work(solver, speeds, probe, search, speed_unit, time_invariant):
-    """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
-
-    Sweep (with its lifted problems), the internal grid, the damping search
-    (four full scans and its refinements, at the grid's mean cost per speed)
-    and the refinements of the worst values.
-    """
-    system = solver.system
-    work, steps = limits.floquet_work(system, speeds)
-    work += limits.floquet_work(system, probe, lift=False)[0]
-    scans, per = limits.floquet_work(system, search, lift=False)
-    typical = scans / max(len(search), 1)
-    work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
-    limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
-
-
-#: Work [steps of a 12-state system] one Floquet analysis below the sweep's
-#: first turning speed may cost while a range's start is followed down to rest
-#: (some twenty such analyses at most: well inside the work limit).
-REST_BUDGET = limits.FLOQUET_WORK_LIMIT / 50
-
-
-def lowest_periodic_speed(system, speeds, probe) -> float:
-    """Lowest speed [rad/s] a Floquet analysis looks at between rest and the
-    first turning speed of the sweep and its grid, where a range is open there
-    (:func:`groundres.stability.find_ranges`): the slowest of first / 2^k whose
-    analysis costs at most :data:`REST_BUDGET` (the cost grows as 1/speed)."""
-    grid = np.union1d(speeds, probe)
-    moving = grid[grid > 0]
-    if not len(moving):
-        return 0.0
-    first = float(moving.min())
-    w = first * 2.0 ** -np.arange(1, stability.REST_HALVINGS + 1)
-    work, _ = limits.floquet_work_per_speed(system, w, lift=False)
-    ok = np.flatnonzero(work <= REST_BUDGET)
-    return float(w[ok[-1]]) if len(ok) else first
-
-
-def _lowest_search_speed(deutsch):
-    """Half the lowest body frequency [rad/s]: below it the regressive lag mode,
-    at Omega (1 - nu) < Omega, meets no body mode, and lag damping decides nothing."""
-    body = [e.body_frequency for e in deutsch if e.body_frequency]
-    return 0.5 * min(body) if body else 0.0
-
-
-def _search_grid(speeds, probe, periodic, low=0.0):
-    """Speeds the damping search scans: the internal grid and the sweep's (at most 60 of
-    them for a periodic analysis, whose every speed is an integration), from ``low`` up."""
-    if periodic and len(speeds) > 60:
-        speeds = speeds[np.unique(np.linspace(0, len(speeds) - 1, 60).round().astype(int))]
-    grid = np.union1d(speeds, probe)
-    # the rotor at rest is no speed for the search: its roots do not depend on lag damping
-    inside = grid[(grid > 0) & (grid >= low)]
-    return inside if len(inside) else grid[-1:]
-
-
-def _minimum_lag_damping(solver, case, speeds, probe, deutsch, assessed):
-    """Smallest lag damping (on every blade that has a damper) for a stable sweep.
-
-    The search scans the sweep and an internal grid dense near the tuning
-    speeds from half the lowest body frequency up, refines the worst speeds
-    (:func:`groundres.stability.minimum_lag_damping`), and starts from the
-    installed damper and the sweep's verdict there, so that the two agree:
-    installed >= the result exactly when the sweep is stable. A sweep
-    unstable wholly below that speed has no answer (None): lag damping does
-    not decide its stability there.
-
-    Returns
-    -------
-    value : float or None
-        [N m s/rad] in SI.
-    why_none : tuple or None
-        Where ``value`` is None: ("below", speed [rad/s]) for a sweep unstable
-        below the search's lowest speed, ("cap", damping [N m s/rad]) where no
-        damping up to the largest tried makes it stable.
-    """
-    periodic = solver.kind == "floquet"
-    low = _lowest_search_speed(deutsch)
-    if any(b < low for _, b in assessed.unstable_ranges):
-        return None, ("below", low)
-    blades = case.rotor.blades
-    installed = max(b.lag_damping for b in blades)
-    inertia = max(b.blade_inertia for b in blades)
-    # the largest lag damping the model resolves (limits.check_resolution), and a
-    # cap beyond which more damping is no design answer (periodic analyses stop
-    # earlier: a strong damper makes the equations stiff for the explicit integrator)
-    tau = float(stability.growth_threshold(np.array([speeds.min(), speeds.max()])).min())
-    resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
-    top = speeds.max()
-    finite = [
-        e.required_lag_damping
-        for e in deutsch
-        if e.required_lag_damping not in (None, np.inf)
-        and e.tuning_speed is not None
-        and speeds.min() <= e.tuning_speed <= top
-    ]
-    # (and four times the Deutsch requirement of a resonance the sweep reaches,
-    # whatever the installed damper)
-    cap = (20 if periodic else 100) * max(installed, 2 * inertia * top * (0.05 if periodic else 1.0))
-    cap = min(max([cap] + [4 * f for f in finite]), resolved)
-    guess = min(max(finite) if finite else max(installed, inertia * top * 1e-3), 0.5 * cap)
-    guess = max(guess, 1e-12 * cap)
-    # the installed dampers belong to the family searched when the working ones are equal
-    working = {b.lag_damping for b in blades if b.lag_damping > 0}
-    anchor = (installed, not assessed.stable) if len(working) <= 1 and installed <= cap else None
-
-    trials = {}
-
-    def excess(lag_damping, w):
-        w = np.atleast_1d(np.asarray(w, dtype=float))
-        if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
-            trials.clear()
-            trials[lag_damping] = solver.with_lag_damping(lag_damping)
-        return trials[lag_damping].growth(w) - stability.growth_threshold(w)
-
-    value = stability.minimum_lag_damping(
-        excess,
-        _search_grid(speeds, probe, periodic, low),
-        guess,
-        cap=cap,
-        rtol=RTOL[solver.kind],
-        anchor=anchor,
-        seeds=assessed.peak_speeds,
-        kind=solver.kind,
-    )
-    return value, (("cap", cap) if value is None else None)

@@ -79,7 +79,7 @@ def mass_unit(rotor: Rotor, body: Body) -> float:
     big = max(_inertias(rotor, body))
     if 2.0**-MASS_RANGE <= big <= 2.0**MASS_RANGE:
         return 1.0
-    return 2.0 ** round(math.log2(big))
+    return math.ldexp(1.0, min(round(math.log2(big)), 1023))  # (2^1024 is no float)
 
 
 def in_mass_unit(rotor: Rotor, body: Body, unit: float) -> tuple[Rotor, Body]:
@@ -98,15 +98,6 @@ def in_mass_unit(rotor: Rotor, body: Body, unit: float) -> tuple[Rotor, Body]:
 # -- resolution -------------------------------------------------------------------
 
 
-def _rotor_inertia_about_pivot(rotor: Rotor, h: float) -> float:
-    return sum(
-        b.blade_mass * h * h
-        + 0.5
-        * (b.blade_inertia + 2 * b.blade_static_moment * b.hinge_offset + b.blade_mass * b.hinge_offset**2)
-        for b in rotor.blades
-    )
-
-
 @dataclass(frozen=True)
 class RateSource:
     """A rate [1/s] one parameter sets on its own: rate = (value / coefficient)**(1/power)."""
@@ -118,16 +109,24 @@ class RateSource:
     coefficient: float
     what: str
     at_top: bool  # the rate grows with rotor speed (given at the stop speed)
+    given_rate: float | None = None  # the rate where the formula above would overflow
 
     @property
     def rate(self) -> float:
+        if self.given_rate is not None:
+            return self.given_rate
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-            r = (self.value / self.coefficient) ** (1.0 / self.power) if self.coefficient > 0 else 0.0
+            r = (
+                (np.float64(self.value) / self.coefficient) ** (1.0 / self.power)
+                if self.coefficient > 0
+                else 0.0
+            )
         return float(r) if math.isfinite(r) else math.inf
 
     def value_at(self, rate: float) -> float:
-        """The value that sets ``rate``."""
-        return self.coefficient * rate**self.power
+        """The value that sets ``rate`` (inf or nan where it is beyond floating point)."""
+        with np.errstate(over="ignore", invalid="ignore"):
+            return float(np.float64(self.coefficient) * np.float64(rate) ** self.power)
 
 
 def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s", 1.0)) -> list[RateSource]:
@@ -148,15 +147,25 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
                 RateSource(f"[rotor] {kind}_stiffness{where}", s, "N m/rad", 2, i, f"sqrt(K/I) {what}", False)
             )
         if b.blade_static_moment > 0 and top_speed > 0:
-            coef = i / (top_speed**2 * b.blade_static_moment)
+            with np.errstate(over="ignore", under="ignore", divide="ignore"):
+                # (in that order: Omega^2 alone overflows above 1e154 rad/s)
+                coef = float(np.float64(i) / b.blade_static_moment / top_speed / top_speed)
+                rate = float(top_speed * np.sqrt(np.float64(b.hinge_offset) * b.blade_static_moment / i))
             out.append(
                 RateSource(
-                    f"[rotor] hinge_offset{where}", b.hinge_offset, "m", 2, coef, "Omega sqrt(e S/I)", True
+                    f"[rotor] hinge_offset{where}",
+                    b.hinge_offset,
+                    "m",
+                    2,
+                    coef,
+                    "Omega sqrt(e S/I)",
+                    True,
+                    rate,
                 )
             )
     m_rotor = sum(b.blade_mass for b in rotor.blades)
     for d in body.dofs:
-        added = m_rotor if d in ("x", "y") else _rotor_inertia_about_pivot(rotor, body.hub_height)
+        added = m_rotor if d in ("x", "y") else rotor.inertia_about_pivot(body.hub_height)
         mass = body.value("inertia", d) + added
         unit = ("N s/m", "N/m") if d in ("x", "y") else ("N m s/rad", "N m/rad")
         what = f"with the rotor's share, M = {mass:.5g}"
@@ -192,7 +201,39 @@ def _scaled_state(m, c, k):
     return a
 
 
-def fastest_rate(system, speeds) -> np.ndarray:
+def _finite_at(system, speeds, psi) -> bool:
+    with np.errstate(over="ignore", invalid="ignore"):
+        m, c, k = system.matrices(np.asarray(speeds, dtype=float), psi)
+        return bool(np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all())
+
+
+def _largest_finite_speed(system, lo: float, hi: float, psi) -> float:
+    """The largest speed [rad/s] in [lo, hi] at which the equations are finite (lo is), to 1 %."""
+    lo = max(lo, 1e-300)
+    for _ in range(200):  # bisection on log speed
+        if hi <= 1.01 * lo:
+            break
+        mid = math.sqrt(lo) * math.sqrt(hi)
+        lo, hi = (mid, hi) if _finite_at(system, [mid], psi) else (lo, mid)
+    return lo
+
+
+def check_representable(system, speed: float, key: str, speed_unit=("rad/s", 1.0)) -> None:
+    """Refuse a rotor speed [rad/s] at which the equations overflow, naming ``key``
+    and the largest speed the case can be represented at (in the case's unit)."""
+    psi = np.linspace(0, 2 * np.pi, 4, endpoint=False)
+    if _finite_at(system, [speed], psi[:, None]):
+        return
+    top = _largest_finite_speed(system, 0.0, speed, psi[:, None])
+    name, factor = speed_unit
+    raise ModelRangeError(
+        f"{key} = {speed / factor:.6g} {name}: the equations overflow in double precision at that "
+        "rotor speed (their terms grow as Omega^2); this case can be represented up to about "
+        f"{speed_text(top, speed_unit)}: keep the speed well below it"
+    )
+
+
+def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
     """Largest |root| [1/s] of the equations frozen at four azimuths, at each speed (n_s,).
 
     Raises
@@ -205,6 +246,9 @@ def fastest_rate(system, speeds) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         m, c, k = system.matrices(speeds, psi[:, None])
         finite = np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all()
+    slow, fast = float(speeds.min()), float(speeds.max())
+    if not finite and fast > 0 and _finite_at(system, [slow], psi):
+        check_representable(system, fast, "[sweep] stop", speed_unit)
     if not finite:
         raise ModelRangeError(
             "the equations of this case overflow in double precision: a length (hinge_offset, "
@@ -261,7 +305,7 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
         end = int(worst.at_top)
         rate = worst.rate
     else:
-        rho = fastest_rate(system, ends)
+        rho = fastest_rate(system, ends, speed_unit)
         if (rho <= allowed).all():
             return
         end = int(np.argmax(rho / allowed))
@@ -272,7 +316,8 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
         head = f"{worst.key} = {worst.value:.6g} {worst.unit}: it sets a rate of {worst.rate:.3g} 1/s"
         head += f" ({worst.what})"
         name = worst.key.split("] ")[-1]
-        limit = f"; allowed here: {name} up to about {worst.value_at(allowed[end]):.3g} {worst.unit}"
+        top = worst.value_at(allowed[end])
+        limit = f"; allowed here: {name} up to about {top:.3g} {worst.unit}" if 0 < top < math.inf else ""
     else:
         head = f"the fastest root of this case moves at about {rate:.3g} 1/s"
         limit = ""
@@ -340,3 +385,27 @@ def check_floquet_work(
         "(a few minutes): use fewer points or start the sweep higher (the steps per period grow as "
         "1/speed)" + advice
     )
+
+
+#: Work [steps of a 12-state system] one Floquet analysis below the sweep's
+#: first turning speed may cost while a range's start is followed down to rest
+#: (some twenty such analyses at most: well inside the work limit).
+REST_BUDGET = FLOQUET_WORK_LIMIT / 50
+#: Halvings of the first turning speed tried below it, at most (2^-40: round-off).
+REST_HALVINGS = 40
+
+
+def lowest_periodic_speed(system, speeds, probe) -> float:
+    """Lowest speed [rad/s] a Floquet analysis looks at between rest and the
+    first turning speed of the sweep and its grid, where a range is open there
+    (:func:`groundres.stability.find_ranges`): the slowest of first / 2^k whose
+    analysis costs at most :data:`REST_BUDGET` (the cost grows as 1/speed)."""
+    grid = np.union1d(speeds, probe)
+    moving = grid[grid > 0]
+    if not len(moving):
+        return 0.0
+    first = float(moving.min())
+    w = first * 2.0 ** -np.arange(1, REST_HALVINGS + 1)
+    work, _ = floquet_work_per_speed(system, w, lift=False)
+    ok = np.flatnonzero(work <= REST_BUDGET)
+    return float(w[ok[-1]]) if len(ok) else first

@@ -40,7 +40,10 @@ def _normalised(mass, damping, stiffness):
     scale = d[..., :, None] * d[..., None, :]
     w = np.sqrt(np.maximum(np.abs(np.diagonal(stiffness, axis1=-2, axis2=-1)) / d**2, 0).max(-1))
     w = np.maximum(w, 1e-300)[..., None, None]
-    return np.abs(mass) / scale + np.abs(damping) / (scale * w) + np.abs(stiffness) / (scale * w**2)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        out = np.abs(mass) / scale + np.abs(damping) / (scale * w) + np.abs(stiffness) / (scale * w**2)
+    # (0 / 0 where a zero entry meets an underflowed scale: that entry couples nothing)
+    return np.nan_to_num(out, nan=0.0)
 
 
 def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:

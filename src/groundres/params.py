@@ -190,6 +190,20 @@ class Rotor:
     def n_blades(self) -> int:
         return len(self.blades)
 
+    def inertia_about_pivot(self, h: float) -> float:
+        """Pitch or roll inertia [kg m^2] of the blades about a pivot ``h`` [m] below
+        the hub, averaged over azimuth: sum of m h^2 + (I + 2 S e + m e^2) / 2."""
+        return sum(
+            b.blade_mass * h * h
+            + 0.5
+            * (
+                b.blade_inertia
+                + 2 * b.blade_static_moment * b.hinge_offset
+                + b.blade_mass * b.hinge_offset**2
+            )
+            for b in self.blades
+        )
+
     @property
     def identical(self) -> bool:
         """True when every blade has the same properties."""

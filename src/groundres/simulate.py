@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .limits import ModelRangeError
 from .system import System
 
 
@@ -84,6 +85,8 @@ def simulate(
     rtol: float = 1e-10,
     points: int = 4000,
     progress=None,
+    max_steps: float | None = None,
+    speed_text: str | None = None,
 ):
     """Integrate the equations from ``initial`` = (q0, qdot0) over ``duration`` [s].
 
@@ -103,14 +106,38 @@ def simulate(
     progress : callable, optional
         ``progress(done, total)`` in simulated seconds, called about every
         percent of ``duration``.
+    max_steps : float, optional
+        Steps after which the integration stops with
+        :class:`~groundres.limits.ModelRangeError` (round-off can keep an
+        adaptive step from growing); by default four times the estimate
+        (:func:`estimate_steps`), at least 2000 and at most 4 :data:`MAX_STEPS`.
+
+    Raises
+    ------
+    ModelRangeError
+        If the integration takes more than ``max_steps`` steps (its message
+        names the speed as ``speed_text`` if given, else in rad/s).
     """
     n = system.size
     mats = harmonic_matrices(system, speed)
+    expected = estimate_steps(system, speed, duration)
+    if max_steps is None:
+        max_steps = min(max(4 * expected, 2000.0), 4 * MAX_STEPS)
+    calls = [0, max_steps * _CALLS_PER_STEP]
 
     step = duration / 100
     reached = [step]
 
     def rhs(t, x):
+        calls[0] += 1
+        if calls[0] > calls[1]:
+            raise ModelRangeError(
+                f"the time integration at {speed_text or f'{speed:.4g} rad/s'} took more than "
+                f"{max_steps:.3g} steps "
+                f"(estimated {expected:.3g}) and was stopped at t = {t:.4g} s of {duration:.4g} s: "
+                "round-off keeps the adaptive step small at this speed; choose a lower speed or a "
+                "shorter time"
+            )
         if progress is not None and t >= reached[0]:
             reached[0] = t + step
             progress(min(t, duration), duration)
@@ -165,6 +192,8 @@ MAX_STEPS = 100_000
 #: Fewest revolutions a run needs for its growth rate: sampled once a
 #: revolution over the second half, it needs at least three samples there.
 MIN_REVOLUTIONS = 6
+#: Right-hand-side evaluations per DOP853 step (12 stages, and a few for the first step's size).
+_CALLS_PER_STEP = 13
 #: Largest coefficient of M, C, K the integration takes: its error estimates
 #: square such values, which must stay inside the floating-point range.
 LARGEST_COEFFICIENT = 1e150

@@ -1,4 +1,4 @@
-"""Stability over a speed sweep: unstable ranges, margins, damping requirements.
+"""Stability over a speed sweep: the growth threshold, unstable ranges, worst values.
 
 A real part counts as positive above ``GROWTH_PER_RADIAN * Omega`` (growth of
 more than one millionth per radian of rotor rotation) plus ``GROWTH_FLOOR``
@@ -8,34 +8,20 @@ round-off. Unstable ranges come from the largest real part on the sweep and
 on an internal grid (:mod:`groundres.scan`), with the local maxima refined
 (ranges narrower than the grid) and, for eigen-analyses, the places where two
 roots meet (undamped coalescences); their ends come from root finding, not
-from the grid spacing. Between the rotor at rest and the first speed that
-turns, no search goes below half that speed (a periodic analysis just above
-rest is the costliest of the sweep).
-
-Deutsch criterion (Deutsch 1946, "Ground vibrations of helicopters", J. Aero.
-Sci. 13(5); in the form of Johnson 2013, "Rotorcraft Aeromechanics", ch. 17):
-at exact tuning of a body mode omega_b with the regressive lag mode,
-omega_b = Omega (1 - nu), light damping needs
-
-* planar (one body direction):   C_b C_lag >= (N/4) S^2 omega_b^2 (1 - nu)/nu,
-* isotropic hub (both directions): C_h C_lag >= (N/2) S^2 omega_h^2 (1 - nu)/nu,
-
-with C_b the body damper and omega_b the body frequency with the rotor mass
-included. It is an approximation; :func:`minimum_lag_damping` finds the exact
-minimum from the roots, on the same internal grid and from the sweep's own
-verdict at the installed damper, so that the two never contradict each other.
+from the grid spacing. A range open at the first speed that turns is followed
+down towards rest (:func:`_start_above_rest`), a periodic analysis only as
+far as its cost allows (:func:`groundres.limits.lowest_periodic_speed`).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import scan
-from .params import Body, Rotor
+from .limits import REST_HALVINGS
 
 GROWTH_PER_RADIAN = 1e-6
 #: [1/s] added to the threshold: at rest the neutral roots sit at round-off.
@@ -171,7 +157,7 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
         if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
             continue
         # a range narrower than the grid: its ends on either side of the peak
-        start = lo if float(excess(np.array([lo]))[0]) > 0 else scan.crossing(excess, lo, at)
+        start = _end(excess, lo, at)
         end = hi if float(excess(np.array([hi]))[0]) > 0 else scan.crossing(excess, at, hi)
         found.append([float(start), float(end), at, top])
     if closeness is not None:
@@ -209,10 +195,6 @@ def _merged(found):
     return [(a, b) for a, b, _, _ in out], [w for _, _, w, _ in out]
 
 
-#: Halvings of the first turning speed tried below it, at most (2^-40: round-off).
-REST_HALVINGS = 40
-
-
 def _start_above_rest(excess, first, floor):
     """Where a range that is open at ``first`` (the grid's first speed above
     rest) begins: the speeds first / 2, first / 4, ... down to ``floor`` are
@@ -226,7 +208,9 @@ def _start_above_rest(excess, first, floor):
         ``open_at`` is ``start`` where the range is still open there.
     """
     floor = max(floor, first * 2.0**-REST_HALVINGS)
-    count = max(1, int(np.floor(np.log2(first / floor))))
+    if floor > 0.5 * first:  # no slower speed affordable: the range is open at the first
+        return float(first), float(first)
+    count = int(np.floor(np.log2(first / floor)))
     w = first * 2.0 ** -np.arange(1, count + 1)
     v = np.asarray(excess(w), float)
     calm = np.flatnonzero(v <= 0)
@@ -311,6 +295,24 @@ def assess(
         ranges, peak_speeds = list(ranges), list(peak_speeds)
     j = int(np.nanargmin(min_damping))
     low = _refine_max(lambda w: -min_damping_at(w), speeds, -min_damping, j, xtol)
+    # the sweep's grid alone may miss where the damping ratio is smallest (a coarse
+    # sweep): the worst speeds of the real part, found on the internal grid, are
+    # looked at too, and the smallest refined between its grid neighbours
+    for w in sorted({float(at), *map(float, peak_speeds)} - {float(low[1])}):
+        if w <= 0:
+            continue
+        ratio = float(min_damping_at(w))
+        if ratio < -low[0]:
+            low = (-ratio, w)
+            if kind == "eigen":
+                k = int(np.argmin(np.abs(grid - w)))
+                lo, hi = scan.bracket(grid, k)
+                lo, hi = min(lo, w), max(hi, w)
+                res = minimize_scalar(
+                    min_damping_at, bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi}
+                )
+                if res.fun < ratio:
+                    low = (-float(res.fun), float(res.x))
     return Stability(
         unstable_ranges=ranges,
         max_real_part=worst,
@@ -318,265 +320,3 @@ def assess(
         peak_speeds=tuple(peak_speeds),
         open_below=open_below if ranges and open_below == ranges[0][0] else None,
     )
-
-
-# -- damping requirements -------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class DeutschEntry:
-    """Lag damping the Deutsch criterion asks for, for one body mode.
-
-    Attributes
-    ----------
-    body_mode : str
-        "x", "y", "pitch", "roll" (planar form) or "x-y" / "pitch-roll" (isotropic form).
-    form : str
-        "planar" or "isotropic".
-    body_frequency : float
-        omega_b [rad/s], rotor mass included (pitch, roll: as seen at the hub).
-    tuning_speed : float or None
-        Omega where Omega (1 - nu) = omega_b [rad/s]; None if the lag mode never
-        reaches the body frequency (nu >= 1 there: no ground resonance).
-    lag_frequency : float or None
-        nu at the tuning speed [per rev] (nu changes with rotor speed when the
-        lag hinge has a spring).
-    body_damping : float
-        Body damper, referred to the hub [N s/m].
-    required_lag_damping : float or None
-        [N m s/rad]; inf if the body has no damping; None without tuning.
-    installed_lag_damping : float
-        The smallest WORKING lag damper on the rotor [N m s/rad]: the blades'
-        damper when they are identical; with dissimilar blades the smallest
-        non-zero damper (a failed damper, 0, is counted in ``failed_dampers``,
-        not taken as installed). 0 when no blade has a damper.
-    failed_dampers : int
-        Blades without a lag damper on a rotor where other blades have one.
-    limitation : str or None
-        Why the criterion does not apply as stated, None where it does. It
-        assumes N >= 3 identical blades: "blades differ" (the rotor is smeared
-        to its average blade, which can miss the instability a failed damper
-        causes) or "two blades" (a two-bladed rotor has no cyclic lag pair
-        and periodic coefficients in every frame).
-    """
-
-    body_mode: str
-    form: str
-    body_frequency: float
-    tuning_speed: float | None
-    lag_frequency: float | None
-    body_damping: float
-    required_lag_damping: float | None
-    installed_lag_damping: float
-    failed_dampers: int = 0
-    limitation: str | None = None
-
-    @property
-    def applies(self) -> bool:
-        """Whether the criterion applies as stated (N >= 3 identical blades)."""
-        return self.limitation is None
-
-    @property
-    def satisfied(self) -> bool | None:
-        """Installed (smallest working) damper >= required; None where there is
-        no verdict (the criterion does not apply, or no tuning): see :attr:`reason`."""
-        if not self.applies or self.required_lag_damping is None:
-            return None
-        return self.installed_lag_damping >= self.required_lag_damping
-
-    @property
-    def reason(self) -> str:
-        """Why the verdict is what it is, in words."""
-        if self.limitation == "blades differ":
-            return (
-                "does not apply: blades differ (the criterion assumes identical blades; the "
-                "required value is for the average blade, which can miss a failed damper)"
-            )
-        if self.limitation is not None:
-            return (
-                f"does not apply: {self.limitation} (the criterion assumes N >= 3 identical blades; "
-                "a two-bladed rotor has no cyclic lag pair and periodic coefficients in every frame)"
-            )
-        if self.required_lag_damping is None:
-            return "no tuning: the regressive lag mode never reaches the body frequency (nu >= 1)"
-        if math.isinf(self.required_lag_damping):
-            return "body undamped: no finite lag damping suffices"
-        return "installed damper >= required" if self.satisfied else "installed damper < required"
-
-
-def installed_lag_damping(rotor: Rotor) -> tuple[float, int]:
-    """The smallest working lag damper [N m s/rad] and the number of failed ones.
-
-    A blade without a damper (0) on a rotor where other blades have one counts
-    as a failed damper, not as the installed value; when no blade has a damper
-    the installed value is 0 and none has failed.
-    """
-    values = [b.lag_damping for b in rotor.blades]
-    working = [v for v in values if v > 0]
-    if not working:
-        return 0.0, 0
-    return float(min(working)), len(values) - len(working)
-
-
-def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
-    """Mass, stiffness, damping of a body dof as seen at the hub (rotor mass included)."""
-    n = rotor.n_blades
-    b = rotor.blades[0]
-    m_rotor = sum(bl.blade_mass for bl in rotor.blades)
-    if dof in ("x", "y"):
-        return body.value("inertia", dof) + m_rotor, body.value("stiffness", dof), body.value("damping", dof)
-    h = body.hub_height
-    h2 = h * h
-    # rotor inertia about the pivot, averaged over azimuth (all blades alike)
-    e = b.hinge_offset
-    j_rotor = n * (
-        b.blade_mass * h2 + (b.blade_inertia + 2 * b.blade_static_moment * e + b.blade_mass * e * e) / 2
-    )
-    j = body.value("inertia", dof) + j_rotor
-    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        out = tuple(np.float64(x) / h2 for x in (j, body.value("stiffness", dof), body.value("damping", dof)))
-    if h2 == 0 or not all(np.isfinite(out)):
-        return None  # the hub (almost) at the pivot: body rotation does not move it
-    return tuple(float(x) for x in out)
-
-
-def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
-    """Deutsch-criterion lag damping for each body mode (see module docstring).
-
-    Dissimilar blades are smeared: every property is averaged over the blades
-    (the constant-coefficient approximation, which Hammond 1974 shows can
-    miss the instability a failed damper causes; the exact value does not).
-    Their entries, and those of a two-bladed rotor, say why the criterion does
-    not apply (``limitation``) and give no verdict; the installed value is the
-    smallest working damper (:func:`installed_lag_damping`).
-    """
-    from dataclasses import fields
-
-    from .params import Blade
-
-    blade = Blade(
-        **{f.name: float(np.mean([getattr(b, f.name) for b in rotor.blades])) for f in fields(Blade)}
-    )
-    n = rotor.n_blades
-    k1 = blade.lag_stiffness / blade.blade_inertia
-    k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
-    s = blade.blade_static_moment
-    installed, failed = installed_lag_damping(rotor)
-    limitation = None if rotor.identical else "blades differ"
-    if n < 3:
-        limitation = "two blades"
-    entries = []
-    modes = []
-    for a, b_ in (("x", "y"), ("pitch", "roll")):
-        if body.pair_isotropic(a, b_):
-            modes.append((f"{a}-{b_}", a, "isotropic", n / 2))
-        else:
-            modes += [(d, d, "planar", n / 4) for d in (a, b_) if d in body.dofs]
-    for name, dof, form, factor in modes:
-        eq = _hub_equivalent(rotor, body, dof)
-        if eq is None:
-            continue
-        mass, stiffness, damping = eq
-        wb = math.sqrt(stiffness / mass)
-        tuning = nu = required = None
-        if k2 < 1 and wb > 0:
-            tuning = (wb + math.sqrt(k2 * wb**2 + k1 * (1 - k2))) / (1 - k2)
-            nu = 1 - wb / tuning
-            if nu <= 0 or nu >= 1:
-                tuning = nu = None
-        if nu is not None:
-            product = factor * s**2 * wb**2 * (1 - nu) / nu
-            required = math.inf if damping == 0 else product / damping
-        entries.append(
-            DeutschEntry(name, form, wb, tuning, nu, damping, required, installed, failed, limitation)
-        )
-    return entries
-
-
-def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen"):
-    """Smallest lag damping that makes the sweep stable, by bisection.
-
-    Parameters
-    ----------
-    excess : callable
-        ``excess(lag_damping, speeds) -> array``: largest real part minus the
-        growth threshold [1/s] at those speeds with that lag damping.
-    grid : ndarray
-        Speeds [rad/s] scanned for the worst one: the sweep's and an internal
-        grid dense near the tuning speeds (:func:`groundres.scan.probe_speeds`),
-        so that the answer does not depend on the sweep's spacing.
-    start : float
-        A first guess [N m s/rad] (> 0).
-    cap : float
-        Largest lag damping tried [N m s/rad].
-    rtol : float
-        Relative accuracy of the result.
-    anchor : (float, bool), optional
-        The installed lag damping and whether the sweep found it unstable: the
-        search brackets from it, so that installed >= result exactly when the
-        sweep is stable.
-    seeds : iterable of float
-        Speeds where the sweep grows (the peaks of its ranges), watched first.
-    kind : "eigen" or "floquet"
-        A Floquet scan is costly: the bisection trusts the watched peaks within
-        a factor 2 of the damping they were scanned at, and a full scan
-        confirms the result; if it finds another peak, the bisection goes on
-        between there and the smallest damping shown stable (the last of four
-        rounds confirming every verdict).
-
-    Returns
-    -------
-    float or None
-        0.0 if stable without lag damping; None if even ``cap`` is unstable.
-    """
-    watch = scan.PeakWatch(excess, grid, kind, seeds)
-    eager = kind == "eigen"
-    proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
-
-    def stable(c, confirm):
-        if watch.watched(c) > 0:
-            return False
-        # the watched peaks are trusted within a factor 2 of the damping their scan was made at
-        if not confirm and watch.scanned is not None and 0.5 * watch.scanned <= c <= 2 * watch.scanned:
-            return True
-        if watch.full(c) > 0:
-            return False
-        proven[0] = c if proven[0] is None else min(proven[0], c)
-        return True
-
-    # bracket [lo, hi]: lo unstable (or zero), hi stable (None: not known yet)
-    if anchor is not None and anchor[1]:
-        lo, hi = anchor[0], None
-    else:
-        if stable(0.0, confirm=True):
-            return 0.0
-        lo, hi = 0.0, None
-        if anchor is not None and anchor[0] > 0:  # the sweep found the installed damper stable
-            hi = proven[0] = anchor[0]
-            if start < hi:  # the first guess splits a wide bracket
-                if stable(start, eager):
-                    hi = start
-                else:
-                    lo = start
-    for round_ in range(4):
-        confirm = eager or round_ == 3  # the last round confirms every verdict
-        if hi is None:  # up from lo, doubling
-            hi = max(2 * lo, start)
-            while not stable(hi, confirm):
-                lo, hi = hi, 2 * hi
-                if hi > cap:
-                    return None
-        for _ in range(400):  # (bounded: halving from a guess, then bisection to rtol)
-            if hi - lo <= rtol * hi or (lo == 0 and hi < 1e-12 * start):
-                break
-            mid = math.sqrt(lo * hi) if 0 < 4 * lo < hi else 0.5 * (lo + hi)
-            if stable(mid, confirm):
-                hi = mid
-            else:
-                lo = mid
-        if confirm or hi == proven[0] or stable(hi, confirm=True):
-            return hi
-        # the confirming scan found a peak the bisection had not watched: on
-        # between there and the smallest damping shown stable
-        lo, hi = hi, proven[0]
-    return hi

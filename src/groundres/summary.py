@@ -12,14 +12,8 @@ import math
 import numpy as np
 
 from ._version import __version__
-from .stability import (
-    GROWTH_FLOOR,
-    GROWTH_PER_RADIAN,
-    DeutschEntry,
-    growth_threshold,
-    installed_lag_damping,
-    is_neutral,
-)
+from .deutsch import DeutschEntry, installed_lag_damping
+from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -59,10 +53,10 @@ def put(out: dict, key: str, value, reason: str) -> dict:
 
 
 def open_below_note(speed_text: str) -> str:
-    """What a range open at the lowest speed a periodic analysis reaches means."""
+    """What a range open at the lowest speed the analysis reaches above rest means."""
     return (
-        f"still growing at {speed_text}, the lowest speed above rest the Floquet analysis "
-        "affords (its cost grows as 1/speed): the range may begin lower"
+        f"still growing at {speed_text}, the lowest speed above rest the analysis looks at "
+        "(a Floquet analysis costs more the slower the rotor): the range may begin lower"
     )
 
 
@@ -82,6 +76,21 @@ def no_exact_reason(result, speed) -> str:
             "regressive lag mode meets no body mode: lag damping does not decide stability there"
         )
     upto = f" {value:.4g} N m s/rad" if value is not None else " the largest tried"
+    speeds = result.rotor_speed
+    undamped = [
+        e.body_mode
+        for e in result.deutsch
+        if e.required_lag_damping is not None
+        and math.isinf(e.required_lag_damping)
+        and e.tuning_speed is not None
+        and speeds[0] <= e.tuning_speed <= speeds[-1]
+    ]
+    if undamped:
+        return (
+            f"no lag damping up to{upto} makes the sweep stable: the body mode {', '.join(undamped)} "
+            "meets the regressive lag mode inside the sweep with no body damping, and the Deutsch "
+            "criterion needs some (no lag damper suffices without it)"
+        )
     return (
         f"no lag damping up to{upto} (the largest the search tries: many times the Deutsch value "
         "and the installed damper) makes the sweep stable with the installed body damping"

@@ -92,8 +92,9 @@ class SpeedRangeError(ValueError):
 
     def __init__(self, speed: float, why: str):
         super().__init__(
-            f"[sweep] start: Floquet analysis at {speed:.4g} rad/s {why}; start the sweep at 0 "
-            "(the rotor at rest is solved as it is) or at a speed a few times higher"
+            f"[sweep] Floquet analysis at {speed:.4g} rad/s {why}: the case's dampers or springs "
+            "decay too fast for the periodic analysis at that rotor speed; start the sweep at a "
+            "speed a few times higher, or use method = 'auto' where the case has a time-invariant form"
         )
         self.speed = speed
 
@@ -155,25 +156,16 @@ def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
 def frozen_rates(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fastest rate per radian and smallest, largest real part [1/s] from one frozen solve.
 
-    (:func:`rates_per_radian` and :func:`frozen_real_parts` at once; azimuths
-    0, pi/2, pi, 3 pi/2.)
+    (:func:`rates_per_radian` and the real parts at once; azimuths 0, pi/2, pi,
+    3 pi/2). The roots of the equations with the azimuth held fixed bound those
+    of the periodic system roughly (a blade without damper keeps its neutral
+    root, the others their damping), which the lifted Floquet problem needs
+    before it has any root.
     """
     speeds = np.asarray(speeds, dtype=float)
     roots = frozen_roots(system, speeds, probes)
     real = roots.real * speeds[:, None]
     return np.abs(roots).max(-1).max(0), real.min(-1).min(0), real.max(-1).max(0)
-
-
-def frozen_real_parts(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarray]:
-    """Smallest and largest real part [1/s] of the frozen system at a few azimuths.
-
-    The roots of the equations with the azimuth held fixed bound those of the
-    periodic system roughly (a blade without damper keeps its neutral root, the
-    others their damping), which the lifted Floquet problem needs before it has
-    any root.
-    """
-    real = frozen_roots(system, speeds, probes).real * np.asarray(speeds, dtype=float)[:, None]  # -> 1/s
-    return real.min(-1).min(0), real.max(-1).max(0)
 
 
 #: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.

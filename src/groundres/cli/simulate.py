@@ -69,7 +69,9 @@ def command(case, speed, duration, initial, out):
     }
     with Steps(console, labels) as steps:
         report = steps.callback and (lambda done, total: steps("integrate", done, total))
-        sim = sim_module.simulate(system, w, duration, (q0, v0), progress=report)
+        sim = sim_module.simulate(
+            system, w, duration, (q0, v0), progress=report, speed_text=f"{speed:g} {the_case.sweep.unit}"
+        )
         steps("integrate", duration, duration)
         growth = sim.growth_rate()
         method = choose_method(the_case)

@@ -1,0 +1,235 @@
+"""The exact minimum lag damping: the smallest damper for which no root grows in the sweep.
+
+The search scans the sweep and an internal grid (:mod:`groundres.scan`),
+dense near the tuning speeds and spread from half the lowest body frequency
+to the stop, and bisects on the lag damping set on every working damper
+(:func:`minimum_lag_damping`). It starts from the installed damper and the
+sweep's verdict there, so that the two agree. A Floquet search is costly:
+its work is estimated with the sweep's before anything runs
+(:func:`check_work`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import limits, scan, stability
+
+#: Relative accuracy of the exact minimum lag damping, by kind of analysis.
+RTOL = {"eigen": 1e-4, "floquet": 1e-3}
+#: Work of a Floquet damping search beside its full scans of the grid (about
+#: four), in analyses of one speed: the bisection's refinements of the worst
+#: speeds; and of the refinements of the sweep's worst values.
+_SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
+
+
+def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
+    """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
+
+    Sweep (with its lifted problems), the internal grid, the damping search
+    (four full scans and its refinements, at the grid's mean cost per speed)
+    and the refinements of the worst values.
+    """
+    system = solver.system
+    work, steps = limits.floquet_work(system, speeds)
+    work += limits.floquet_work(system, probe, lift=False)[0]
+    scans, per = limits.floquet_work(system, search, lift=False)
+    typical = scans / max(len(search), 1)
+    work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
+    limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
+
+
+def lowest_search_speed(deutsch):
+    """Half the lowest body frequency [rad/s]: below it the regressive lag mode,
+    at Omega (1 - nu) < Omega, meets no body mode, and lag damping decides nothing."""
+    body = [e.body_frequency for e in deutsch if e.body_frequency]
+    return 0.5 * min(body) if body else 0.0
+
+
+#: Speeds spread geometrically from the search's lowest speed to the sweep's stop,
+#: beside the internal grid: strong lag damping moves the worst speed from the
+#: tuning speed down towards the body frequency, which may lie below the dense
+#: cluster (nu > 1/3) and between the uniform points of a wide sweep.
+SEARCH_FILL = {False: 200, True: 12}
+
+
+def search_grid(speeds, probe, periodic, low=0.0):
+    """Speeds the damping search scans: the internal grid and the sweep's (at most 60 of
+    them for a periodic analysis, whose every speed is an integration), from ``low`` up,
+    with :data:`SEARCH_FILL` speeds spread geometrically from ``low`` (or the first
+    turning speed) to the stop."""
+    if periodic and len(speeds) > 60:
+        speeds = speeds[np.unique(np.linspace(0, len(speeds) - 1, 60).round().astype(int))]
+    grid = np.union1d(speeds, probe)
+    moving = grid[grid > 0]
+    if len(moving):
+        # (a periodic fill stays above half the first turning speed, as its grid does)
+        bottom = max(low, 0.5 * moving.min()) if periodic else (low if low > 0 else moving.min())
+        if bottom < moving.max():
+            grid = np.union1d(grid, np.geomspace(bottom, moving.max(), SEARCH_FILL[periodic]))
+    # the rotor at rest is no speed for the search: its roots do not depend on lag damping
+    inside = grid[(grid > 0) & (grid >= low)]
+    return inside if len(inside) else grid[-1:]
+
+
+def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
+    """Smallest lag damping (on every blade that has a damper) for a stable sweep.
+
+    The search scans the sweep and an internal grid dense near the tuning
+    speeds from half the lowest body frequency up, refines the worst speeds
+    (:func:`minimum_lag_damping`), and starts from the
+    installed damper and the sweep's verdict there, so that the two agree:
+    installed >= the result exactly when the sweep is stable. A sweep
+    unstable wholly below that speed has no answer (None): lag damping does
+    not decide its stability there.
+
+    Returns
+    -------
+    value : float or None
+        [N m s/rad] in SI.
+    why_none : tuple or None
+        Where ``value`` is None: ("below", speed [rad/s]) for a sweep unstable
+        below the search's lowest speed, ("cap", damping [N m s/rad]) where no
+        damping up to the largest tried makes it stable.
+    """
+    periodic = solver.kind == "floquet"
+    low = lowest_search_speed(deutsch)
+    if any(b < low for _, b in assessed.unstable_ranges):
+        return None, ("below", low)
+    blades = case.rotor.blades
+    installed = max(b.lag_damping for b in blades)
+    inertia = max(b.blade_inertia for b in blades)
+    # the largest lag damping the model resolves (limits.check_resolution), and a
+    # cap beyond which more damping is no design answer (periodic analyses stop
+    # earlier: a strong damper makes the equations stiff for the explicit integrator)
+    tau = float(stability.growth_threshold(np.array([speeds.min(), speeds.max()])).min())
+    resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
+    top = speeds.max()
+    finite = [
+        e.required_lag_damping
+        for e in deutsch
+        if e.required_lag_damping not in (None, np.inf)
+        and e.tuning_speed is not None
+        and speeds.min() <= e.tuning_speed <= top
+    ]
+    # (and four times the Deutsch requirement of a resonance the sweep reaches,
+    # whatever the installed damper)
+    cap = (20 if periodic else 100) * max(installed, 2 * inertia * top * (0.05 if periodic else 1.0))
+    cap = min(max([cap] + [4 * f for f in finite]), resolved)
+    guess = min(max(finite) if finite else max(installed, inertia * top * 1e-3), 0.5 * cap)
+    guess = max(guess, 1e-12 * cap)
+    # the installed dampers belong to the family searched when the working ones are equal
+    working = {b.lag_damping for b in blades if b.lag_damping > 0}
+    anchor = (installed, not assessed.stable) if len(working) <= 1 and installed <= cap else None
+
+    trials = {}
+
+    def excess(lag_damping, w):
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
+            trials.clear()
+            trials[lag_damping] = solver.with_lag_damping(lag_damping)
+        return trials[lag_damping].growth(w) - stability.growth_threshold(w)
+
+    value = minimum_lag_damping(
+        excess,
+        search_grid(speeds, probe, periodic, low),
+        guess,
+        cap=cap,
+        rtol=RTOL[solver.kind],
+        anchor=anchor,
+        seeds=assessed.peak_speeds,
+        kind=solver.kind,
+    )
+    return value, (("cap", cap) if value is None else None)
+
+
+def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen"):
+    """Smallest lag damping that makes the sweep stable, by bisection.
+
+    Parameters
+    ----------
+    excess : callable
+        ``excess(lag_damping, speeds) -> array``: largest real part minus the
+        growth threshold [1/s] at those speeds with that lag damping.
+    grid : ndarray
+        Speeds [rad/s] scanned for the worst one: the sweep's and an internal
+        grid dense near the tuning speeds (:func:`groundres.scan.probe_speeds`),
+        so that the answer does not depend on the sweep's spacing.
+    start : float
+        A first guess [N m s/rad] (> 0).
+    cap : float
+        Largest lag damping tried [N m s/rad].
+    rtol : float
+        Relative accuracy of the result.
+    anchor : (float, bool), optional
+        The installed lag damping and whether the sweep found it unstable: the
+        search brackets from it, so that installed >= result exactly when the
+        sweep is stable.
+    seeds : iterable of float
+        Speeds where the sweep grows (the peaks of its ranges), watched first.
+    kind : "eigen" or "floquet"
+        A Floquet scan is costly: the bisection trusts the watched peaks within
+        a factor 2 of the damping they were scanned at, and a full scan
+        confirms the result; if it finds another peak, the bisection goes on
+        between there and the smallest damping shown stable (the last of four
+        rounds confirming every verdict).
+
+    Returns
+    -------
+    float or None
+        0.0 if stable without lag damping; None if even ``cap`` is unstable.
+    """
+    watch = scan.PeakWatch(excess, grid, kind, seeds)
+    eager = kind == "eigen"
+    proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
+
+    def stable(c, confirm):
+        if watch.watched(c) > 0:
+            return False
+        # the watched peaks are trusted within a factor 2 of the damping their scan was made at
+        if not confirm and watch.scanned is not None and 0.5 * watch.scanned <= c <= 2 * watch.scanned:
+            return True
+        if watch.full(c) > 0:
+            return False
+        proven[0] = c if proven[0] is None else min(proven[0], c)
+        return True
+
+    # bracket [lo, hi]: lo unstable (or zero), hi stable (None: not known yet)
+    if anchor is not None and anchor[1]:
+        lo, hi = anchor[0], None
+    else:
+        if stable(0.0, confirm=True):
+            return 0.0
+        lo, hi = 0.0, None
+        if anchor is not None and anchor[0] > 0:  # the sweep found the installed damper stable
+            hi = proven[0] = anchor[0]
+            if start < hi:  # the first guess splits a wide bracket
+                if stable(start, eager):
+                    hi = start
+                else:
+                    lo = start
+    for round_ in range(4):
+        confirm = eager or round_ == 3  # the last round confirms every verdict
+        if hi is None:  # up from lo, doubling
+            hi = max(2 * lo, start)
+            while not stable(hi, confirm):
+                lo, hi = hi, 2 * hi
+                if hi > cap:
+                    return None
+        for _ in range(400):  # (bounded: halving from a guess, then bisection to rtol)
+            if hi - lo <= rtol * hi or (lo == 0 and hi < 1e-12 * start):
+                break
+            mid = math.sqrt(lo * hi) if 0 < 4 * lo < hi else 0.5 * (lo + hi)
+            if stable(mid, confirm):
+                hi = mid
+            else:
+                lo = mid
+        if confirm or hi == proven[0] or stable(hi, confirm=True):
+            return hi
+        # the confirming scan found a peak the bisection had not watched: on
+        # between there and the smallest damping shown stable
+        lo, hi = hi, proven[0]
+    return hi
