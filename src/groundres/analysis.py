@@ -85,8 +85,9 @@ class _Solver:
         self.nr_coords = system.multiblade_coordinates()
         self.iso = [p for p in _ISOTROPIC_PAIRS if system.body.pair_isotropic(*p)]
 
-    def with_lag_damping(self, scale_to: float):
-        """The same case with the lag dampers that work set to ``scale_to`` [N m s/rad].
+    def with_lag_damping(self, scale_to: float, in_unit: bool = False):
+        """The same case with the lag dampers that work set to ``scale_to`` [N m s/rad]
+        (in the equations' mass unit if ``in_unit``, :func:`groundres.limits.mass_unit`).
 
         Blades without a lag damper keep none (a failed damper stays failed),
         unless no blade has one, in which case all get it.
@@ -95,7 +96,7 @@ class _Solver:
         working = [b.lag_damping > 0 for b in blades]
         if not any(working):
             working = [True] * len(blades)
-        value = scale_to / self.unit
+        value = scale_to if in_unit else scale_to / self.unit
         new = tuple(replace(b, lag_damping=value) if w else b for b, w in zip(blades, working))
         out = type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
         return out
@@ -149,7 +150,11 @@ class _Solver:
 
     def weights(self, speeds):
         """Kinetic weights [kg, kg m^2] (the mass-matrix diagonal in SI)."""
-        return self.system.kinetic_weights(speeds) * self.unit
+        weights = self.system.kinetic_weights(speeds)
+        with np.errstate(over="ignore"):
+            si = weights * self.unit
+        # (only their ratios matter: beyond floating point they stay in the mass unit)
+        return si if np.isfinite(si).all() else weights
 
     def accuracy(self) -> dict:
         """How the last sweep's roots were found, and how accurately (for provenance)."""
@@ -198,8 +203,8 @@ class _Multiblade(_Solver):
             progress(len(speeds), len(speeds))
         return solution
 
-    def with_lag_damping(self, value):
-        new = super().with_lag_damping(value)
+    def with_lag_damping(self, value, in_unit=False):
+        new = super().with_lag_damping(value, in_unit)
         new.blocks = self.blocks
         return new
 

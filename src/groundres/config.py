@@ -37,6 +37,8 @@ class CaseError(ValueError):
 MAX_CASE_BYTES = 1_000_000
 #: Largest number a number key may hold: the float range.
 LARGEST_NUMBER = sys.float_info.max
+#: LARGEST_NUMBER as messages write it (rounded down: 1.798e308 is no float).
+LARGEST_NUMBER_TEXT = "1.797e308"
 
 
 _NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
@@ -118,7 +120,8 @@ def _check_type(table: str, key: str, value, kind: str) -> None:
         raise CaseError(f"{_where(table, key)} = {text}: must be {kind}")
     if kind == _NUMBER and not finite(value):
         raise CaseError(
-            f"{_where(table, key)} = {shown(value)}: must be a finite number, |value| <= {LARGEST_NUMBER:.4g}"
+            f"{_where(table, key)} = {shown(value)}: must be a finite number, "
+            f"|value| <= {LARGEST_NUMBER_TEXT}"
         )
 
 
@@ -330,5 +333,5 @@ def _too_long_number(text: str) -> str:
     where = f"{found.group(1)} = " if found else "a value "
     return (
         f"{where}<a whole number of over 4000 digits>: must be a finite number, "
-        f"|value| <= {LARGEST_NUMBER:.4g}"
+        f"|value| <= {LARGEST_NUMBER_TEXT}"
     )

@@ -98,9 +98,12 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     low = lowest_search_speed(deutsch)
     if any(b < low for _, b in assessed.unstable_ranges):
         return None, ("below", low)
+    # (computed in the equations' mass unit, limits.mass_unit: SI values near the
+    # largest float would overflow in the products below)
+    unit = solver.unit
     blades = case.rotor.blades
-    installed = max(b.lag_damping for b in blades)
-    inertia = max(b.blade_inertia for b in blades)
+    installed = max(b.lag_damping for b in blades) / unit
+    inertia = max(b.blade_inertia for b in blades) / unit
     # the largest lag damping the model resolves (limits.check_resolution), and a
     # cap beyond which more damping is no design answer (periodic analyses stop
     # earlier: a strong damper makes the equations stiff for the explicit integrator)
@@ -108,7 +111,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
     top = speeds.max()
     finite = [
-        e.required_lag_damping
+        e.required_lag_damping / unit
         for e in deutsch
         if e.required_lag_damping not in (None, np.inf)
         and e.tuning_speed is not None
@@ -130,7 +133,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         w = np.atleast_1d(np.asarray(w, dtype=float))
         if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
             trials.clear()
-            trials[lag_damping] = solver.with_lag_damping(lag_damping)
+            trials[lag_damping] = solver.with_lag_damping(lag_damping, in_unit=True)
         return trials[lag_damping].growth(w) - stability.growth_threshold(w)
 
     value = minimum_lag_damping(
@@ -143,7 +146,8 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         seeds=assessed.peak_speeds,
         kind=solver.kind,
     )
-    return value, (("cap", cap) if value is None else None)
+    with np.errstate(over="ignore"):
+        return (None, ("cap", cap * unit)) if value is None else (value * unit, None)
 
 
 def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen"):

@@ -81,7 +81,9 @@ def check_output_folder(path: str | Path) -> None:
             parent = parent.parent
         if not parent.is_dir():
             raise OutputFolderError(f"output folder {given}: {parent} is not a folder")
+        _check_writable(given, parent)
         return
+    _check_writable(given, path.parent)
     foreign = foreign_entries(path)
     if foreign:
         shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
@@ -89,6 +91,17 @@ def check_output_folder(path: str | Path) -> None:
             f"output folder {given}: not a groundres output folder (it holds {shown}, which groundres "
             "did not write), so it is not replaced; choose a new or empty folder with --out"
         )
+
+
+def _check_writable(given, folder: Path) -> None:
+    """Raise OutputFolderError unless a folder can be made (and removed) in ``folder``,
+    where the fresh output folder will be made."""
+    try:
+        os.rmdir(tempfile.mkdtemp(dir=folder, prefix=f"{_HIDDEN}probe-"))
+    except OSError as err:
+        raise OutputFolderError(
+            f"output folder {given}: cannot write in {folder} ({err.strerror}); choose another --out"
+        ) from None
 
 
 @contextlib.contextmanager
@@ -106,15 +119,21 @@ def output_folder(path: str | Path):
     """
     check_output_folder(path)
     target = Path(os.path.realpath(path))
-    target.parent.mkdir(parents=True, exist_ok=True)
     fresh = None
     try:
         with _signals_deferred():  # an interrupt now still finds the name to remove
-            fresh = Path(
-                tempfile.mkdtemp(
-                    dir=target.parent, prefix=f"{_HIDDEN}new-{os.getpid()}-", suffix=f"-{target.name}"
+            try:
+                target.parent.mkdir(parents=True, exist_ok=True)
+                fresh = Path(
+                    tempfile.mkdtemp(
+                        dir=target.parent, prefix=f"{_HIDDEN}new-{os.getpid()}-", suffix=f"-{target.name}"
+                    )
                 )
-            )
+            except OSError as err:
+                raise OutputFolderError(
+                    f"output folder {path}: cannot write in {target.parent} ({err.strerror}); "
+                    "choose another --out"
+                ) from None
         yield fresh
         os.chmod(fresh, 0o777 & ~current_umask())
         with _signals_deferred(), _locked(target.parent):

@@ -297,7 +297,8 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
     speeds = np.asarray(speeds, dtype=float)
     ends = np.array([speeds.min(), speeds.max()])
     tau = threshold(ends)
-    allowed = tau / (ROUND_OFF * EPS)  # fastest rate resolved at each end [1/s]
+    with np.errstate(over="ignore"):
+        allowed = tau / (ROUND_OFF * EPS)  # fastest rate resolved at each end [1/s]
     sources = rate_sources(rotor, body, float(ends[-1]), speed_unit)
     excess = [src.rate / allowed[int(src.at_top)] for src in sources]
     worst = sources[int(np.argmax(excess))]

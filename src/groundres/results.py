@@ -43,7 +43,9 @@ class SweepResult:
     coordinates : list of Coordinate
         Nonrotating coordinates of the mode shapes (``modes.shape``).
     weights : ndarray (n_s, n)
-        Kinetic weight (mass-matrix diagonal) of each coordinate.
+        Kinetic weight (mass-matrix diagonal) of each coordinate [kg, kg m^2];
+        only their ratios are used (mode-shape normalisation), and where the
+        SI values would overflow they are given in the computation's mass unit.
     accuracy : dict, optional
         How the roots were found and how accurately (solver, tolerances, step
         counts, growth threshold), JSON-ready; output folders record it.

@@ -19,6 +19,28 @@ from .common import Terminated, UserError, interrupts
 
 
 class _Group(click.Group):
+    def main(self, *args, standalone_mode=True, **kwargs):
+        """As click's, but a usage mistake (an unknown option, a value that is no
+        number) is one line naming the option and the help to read, exit 2."""
+        if not standalone_mode:
+            return super().main(*args, standalone_mode=False, **kwargs)
+        try:
+            rv = super().main(*args, standalone_mode=False, **kwargs)
+        except click.exceptions.NoArgsIsHelpError as err:  # bare `groundres`: the help
+            click.echo(err.format_message(), err=True)
+            sys.exit(2)
+        except click.UsageError as err:
+            where = err.ctx.command_path if err.ctx is not None else "groundres"
+            click.echo(f"error: {err.format_message()} (see {where} --help)", err=True)
+            sys.exit(2)
+        except click.ClickException as err:
+            err.show()
+            sys.exit(err.exit_code)
+        except click.Abort:
+            click.echo("aborted", err=True)
+            sys.exit(1)
+        sys.exit(rv if isinstance(rv, int) else 0)
+
     def parse_args(self, ctx, args):
         from datetime import UTC, datetime
 

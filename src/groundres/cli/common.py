@@ -50,7 +50,9 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
 
     Each command's folder is replaced whole, so commands never share a default.
     """
-    if out:
+    if out is not None:
+        if not out.strip():
+            fail_user(f"--out {out!r}: empty; give a folder, e.g. --out results")
         return Path(out)
     name = Path(case).stem if case else DEFAULT_CASE
     return Path("groundres-out") / (name if command == "run" else f"{name}-{command}")

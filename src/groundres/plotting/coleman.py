@@ -17,6 +17,7 @@ import numpy as np
 
 from ..params import FREQUENCY_UNITS, SPEED_UNITS
 from ..stability import growth_threshold
+from .titles import figure_title
 
 _COLOURS = {
     "body x": "#222222",
@@ -55,7 +56,9 @@ def _style(label: str) -> str:
 def speed_axis(result):
     """Factor dividing rad/s for plot axes, and the axis-unit text."""
     sweep = result.case.sweep
-    if sweep.reference:
+    top = float(np.max(result.rotor_speed)) if len(result.rotor_speed) else 0.0
+    # (a reference so small that the ratios leave floating point: the case's unit instead)
+    if sweep.reference and top / 1e300 < sweep.reference:
         return sweep.reference, "-"
     return SPEED_UNITS[sweep.unit], sweep.unit
 
@@ -338,7 +341,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         text += " [-]" if normalised else f" {unit}"
     else:
         text = "stable over the whole sweep"
-    ax_f.set_title(f"{result.case.title}\n{result.method}, {frame} frame; {text}", fontsize=10)
+    ax_f.set_title(f"{figure_title(result.case.title)}\n{result.method}, {frame} frame; {text}", fontsize=10)
     handles = [
         Line2D([], [], color=colours[i], lw=1.6, linestyle=_OVER if mostly_covered[i] else styles[i])
         for i in range(len(result.labels))

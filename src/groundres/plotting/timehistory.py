@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .titles import figure_title
+
 _ANGLES = ("pitch", "roll")
 
 
@@ -128,7 +130,7 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_tex
         text += f"; measured growth rate {growth:.4g} 1/s"
     if predicted is not None:
         text += f", largest real part {predicted:.4g} 1/s"
-    fig.suptitle(f"{title}\n{text}", fontsize=10)
+    fig.suptitle(f"{figure_title(title)}\n{text}", fontsize=10)
     return fig
 
 
