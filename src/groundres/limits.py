@@ -39,6 +39,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from .modal import state_matrix
 from .params import Blade, Body, Rotor
 
 EPS = float(np.finfo(float).eps)
@@ -193,12 +194,7 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
 def _scaled_state(m, c, k):
     """State matrices with coordinates scaled so that the mass matrix has a unit diagonal."""
     d = 1.0 / np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
-    sm, sc, sk = (x * d[..., :, None] * d[..., None, :] for x in (m, c, k))
-    n = m.shape[-1]
-    a = np.zeros(m.shape[:-2] + (2 * n, 2 * n))
-    a[..., :n, n:] = np.eye(n)
-    a[..., n:, :] = -np.linalg.solve(sm, np.concatenate([sk, sc], -1))
-    return a
+    return state_matrix(*(x * d[..., :, None] * d[..., None, :] for x in (m, c, k)))
 
 
 def _finite_at(system, speeds, psi) -> bool:
