@@ -12,26 +12,22 @@ adds five matrices and solves with the mass matrix.
 
 Both are checked against a tight reference (DOP853, rtol 1e-13) at a few
 speeds: multipliers to 1e-9 (relative to max(1, |mu|)).
-One BLAS thread per process; groundres uses a thread per core itself.
+Run in the default environment (BLAS with its own threads): groundres keeps
+BLAS single-threaded inside its own thread pool (groundres.parallel).
 
 Run: python3 benchmarks/bench_floquet.py [--baseline-speeds N]
 """
 
-import os
+import argparse
+import time
 
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import linear_sum_assignment
 
-import argparse  # noqa: E402
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
-from scipy.optimize import linear_sum_assignment  # noqa: E402
-
-from groundres import analyze, floquet, load_case  # noqa: E402
-from groundres.simulate import harmonic_matrices  # noqa: E402
-from groundres.system import System  # noqa: E402
+from groundres import analyze, floquet, load_case
+from groundres.simulate import harmonic_matrices
+from groundres.system import System
 
 
 def baseline_monodromy(system, speed, rtol=1e-10):

@@ -10,24 +10,20 @@ for all speeds in one batched call. The eigenvalues must agree.
 Run: python3 benchmarks/bench_sweep.py
 """
 
-import os
 import time
 
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from groundres import (  # noqa: E402
+from groundres import (
     Blade,
     Body,
     Case,
     Rotor,
     Sweep,
     analyze,
-    modal,  # noqa: E402
+    modal,
 )
-from groundres.system import System  # noqa: E402
+from groundres.system import System
 
 
 def case():

@@ -15,13 +15,13 @@ Labels and frequencies of the roots come from :mod:`groundres.identify`.
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 from scipy.sparse.csgraph import connected_components
+
+from .parallel import CORES, map_threads
 
 
 def state_matrix(mass, damping, stiffness):
@@ -61,21 +61,12 @@ def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:
     return sorted(blocks, key=lambda b: (-len(b), b[0]))
 
 
-_POOL = None
-
-
 def _batched(fn, a):
-    """Apply a batched LAPACK call over the leading axis, split across cores.
-
-    NumPy's linear algebra releases the GIL, so threads share a large batch.
-    """
-    global _POOL
-    cores = min(os.cpu_count() or 1, 4)
-    if a.ndim < 3 or a.shape[0] < 256 or cores < 2:
+    """Apply a batched LAPACK call over the leading axis, split across cores
+    (:func:`groundres.parallel.map_threads`)."""
+    if a.ndim < 3 or a.shape[0] < 256 or CORES < 2:
         return fn(a)
-    if _POOL is None:
-        _POOL = ThreadPoolExecutor(cores)
-    parts = list(_POOL.map(fn, np.array_split(a, cores)))
+    parts = map_threads(fn, np.array_split(a, CORES))
     if isinstance(parts[0], tuple):
         return tuple(np.concatenate(p) for p in zip(*parts))
     return np.concatenate(parts)

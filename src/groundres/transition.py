@@ -26,14 +26,13 @@ compares it with SciPy's adaptive DOP853.
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from fractions import Fraction as _F
 
 import numpy as np
 
 from . import _dop853
+from .parallel import CORES, map_threads
 from .system import System
 
 # Butcher (1964) sixth-order, seven-stage explicit Runge-Kutta method.
@@ -193,21 +192,6 @@ def grid_matrices(
     return tuple(x[first:last] for x in system.grid_cache[key])
 
 
-_POOL = None
-_CORES = min(os.cpu_count() or 1, 4)
-
-
-def _map(fn, items):
-    """Map over items in threads (NumPy's matrix products release the GIL)."""
-    global _POOL
-    items = list(items)
-    if len(items) < 2 or _CORES < 2:
-        return map(fn, items)
-    if _POOL is None:
-        _POOL = ThreadPoolExecutor(_CORES)
-    return _POOL.map(fn, items)
-
-
 def ordered_product(p):
     """P[-1] @ ... @ P[1] @ P[0] over the first axis, by pairwise reduction."""
     while p.shape[0] > 1:
@@ -292,7 +276,7 @@ def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1
     n = system.size
     n2 = 2 * n
     per = steps // blocks
-    width = min(len(speeds), -(-len(speeds) // _CORES))  # at least one batch per core
+    width = min(len(speeds), -(-len(speeds) // CORES))  # at least one batch per core
     room = max(1, int(STAGE_BUDGET // (len(tableau.c) * n * n2 * width)))  # steps per task
     groups = [speeds[i : i + width] for i in range(0, len(speeds), width)]
     if per <= room:
@@ -318,7 +302,7 @@ def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1
         return out[None]
 
     items = [(w, r) for w in groups for r in runs]
-    done = list(_map(task, items))
+    done = map_threads(task, items)
     out = np.empty((blocks, len(speeds), n2, n2))
     start = 0
     k = 0
