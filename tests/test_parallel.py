@@ -1,0 +1,25 @@
+"""The thread pool keeps BLAS single-threaded inside it (issue 10, item 1)."""
+
+import numpy as np
+import pytest
+from threadpoolctl import threadpool_info
+
+from groundres import parallel
+
+
+def _blas_threads():
+    return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+
+@pytest.mark.skipif(parallel.CORES < 2, reason="one core: the pool is not used")
+def test_blas_is_single_threaded_inside_the_pool_and_restored_after():
+    before = _blas_threads()
+    seen = parallel.map_threads(lambda a: (_blas_threads(), np.linalg.eigvals(a).shape), [np.eye(4)] * 4)
+    assert all(threads and set(threads) == {1} for threads, _ in seen)
+    assert [shape for _, shape in seen] == [(4,)] * 4
+    assert _blas_threads() == before
+
+
+def test_results_keep_the_order_of_the_items():
+    assert parallel.map_threads(lambda x: x * x, range(10)) == [x * x for x in range(10)]
+    assert parallel.map_threads(lambda x: -x, [3]) == [-3]
