@@ -478,3 +478,17 @@ def test_no_exact_minimum_without_body_damping_says_why():
         assert result.exact_lag_damping is None and result.no_exact_lag_damping[0] == "cap"
     reason = summary(result)["lag_damping"]["exact_minimum_reason"]
     assert "x-y" in reason and "no body damping" in reason
+
+
+def test_the_damping_search_can_be_left_out():
+    """phasors ran the search and threw its answer away: without it the modes
+    and ranges are the same and the result says the search was not run."""
+    from groundres.summary import summary
+
+    case = shipped("hammond-1974", sweep__points=40)
+    full = analyze(case)
+    bare = analyze(case, lag_damping_search=False)
+    np.testing.assert_array_equal(bare.modes.eigenvalue, full.modes.eigenvalue)
+    assert bare.stability.unstable_ranges == full.stability.unstable_ranges
+    assert bare.exact_lag_damping is None and full.exact_lag_damping > 0
+    assert summary(bare)["lag_damping"]["exact_minimum_reason"] == "the search for it was not run"

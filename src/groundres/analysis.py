@@ -330,7 +330,13 @@ def _smallest_damping_ratio_at(solver, modes: Modes, speeds, w: float) -> float:
 
 
 def analyze(
-    case: Case, *, frame: str | None = None, method: str | None = None, speeds=None, progress=None
+    case: Case,
+    *,
+    frame: str | None = None,
+    method: str | None = None,
+    speeds=None,
+    progress=None,
+    lag_damping_search: bool = True,
 ) -> SweepResult:
     """Analyse a case over its speed sweep.
 
@@ -348,6 +354,9 @@ def analyze(
         counts speeds (several calls for a periodic analysis, one at its end
         for an eigen-analysis); "range ends" and "lag damping" are called with
         ``(0, None)`` when they start and ``(1, 1)`` when they end.
+    lag_damping_search : bool
+        Search the exact minimum lag damping (:mod:`groundres.damping_search`);
+        without it ``exact_lag_damping`` is None with the reason ("skipped", None).
 
     Returns
     -------
@@ -373,7 +382,7 @@ def analyze(
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
     if solver.kind == "floquet":
         low = damping_search.lowest_search_speed(deutsch)
-        search = damping_search.search_grid(speeds, probe, True, low)
+        search = damping_search.search_grid(speeds, probe, True, low) if lag_damping_search else None
         damping_search.check_work(
             solver, speeds, probe, search, unit_of_speed, time_invariant_form(case) is not None
         )
@@ -409,9 +418,11 @@ def analyze(
             "note": "a root grows when its real part exceeds per_radian * rotor speed + floor",
         },
     }
-    report("lag damping", 0, None)
-    exact, no_exact = damping_search.exact_minimum(solver, case, speeds, probe, deutsch, assessed)
-    report("lag damping", 1, 1)
+    exact, no_exact = None, ("skipped", None)
+    if lag_damping_search:
+        report("lag damping", 0, None)
+        exact, no_exact = damping_search.exact_minimum(solver, case, speeds, probe, deutsch, assessed)
+        report("lag damping", 1, 1)
     return SweepResult(
         case=case,
         method=METHOD_NAMES[form],

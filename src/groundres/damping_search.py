@@ -29,15 +29,17 @@ def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
     """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
 
     Sweep (with its lifted problems), the internal grid, the damping search
-    (four full scans and its refinements, at the grid's mean cost per speed)
-    and the refinements of the worst values.
+    over ``search`` (four full scans and its refinements, at the grid's mean
+    cost per speed; None where there is no search) and the refinements of
+    the worst values.
     """
     system = solver.system
     work, steps = limits.floquet_work(system, speeds)
     work += limits.floquet_work(system, probe, lift=False)[0]
-    scans, per = limits.floquet_work(system, search, lift=False)
-    typical = scans / max(len(search), 1)
-    work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
+    if search is not None:  # (None: no damping search)
+        scans, per = limits.floquet_work(system, search, lift=False)
+        typical = scans / max(len(search), 1)
+        work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
     limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
 
 

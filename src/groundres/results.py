@@ -38,8 +38,9 @@ class SweepResult:
         the sweep is unstable where lag damping decides nothing.
     no_exact_lag_damping : tuple or None
         Why ``exact_lag_damping`` is None: ("cap", largest damping tried
-        [N m s/rad]) or ("below", speed [rad/s] below which the sweep is
-        unstable and the search does not look: half the lowest body frequency).
+        [N m s/rad]), ("below", speed [rad/s] below which the sweep is
+        unstable and the search does not look: half the lowest body frequency)
+        or ("skipped", None) where the search was not asked for.
     coordinates : list of Coordinate
         Nonrotating coordinates of the mode shapes (``modes.shape``).
     weights : ndarray (n_s, n)

@@ -70,6 +70,8 @@ def _range(result, start, end) -> dict:
 def no_exact_reason(result, speed) -> str:
     """Why a result has no exact minimum lag damping, ``speed(w)`` writing a speed [rad/s]."""
     kind, value = result.no_exact_lag_damping or ("cap", None)
+    if kind == "skipped":
+        return "the search for it was not run"
     if kind == "below":
         return (
             f"the sweep is unstable below {speed(value)} (half the lowest body frequency), where the "

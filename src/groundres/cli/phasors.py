@@ -56,7 +56,12 @@ def command(case, speed, labels, gif, out):
     out_dir = output_dir(case, out, "phasors")
     check_out(out_dir)
     with Steps(console, STAGES) as steps, contextlib.ExitStack() as stack:
-        result = analyze(the_case, speeds=np.union1d(the_case.sweep.speeds, [w]), progress=steps.callback)
+        result = analyze(
+            the_case,
+            speeds=np.union1d(the_case.sweep.speeds, [w]),
+            progress=steps.callback,
+            lag_damping_search=False,  # (phasors show the modes: no damping requirement)
+        )
         i = int(np.argmin(np.abs(result.rotor_speed - w)))
         for label in labels:
             if label not in result.labels:
