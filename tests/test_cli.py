@@ -8,32 +8,10 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 
+from conftest import HAMMOND_TOML
 from groundres.cli import main
 
-GOOD = """
-title = "test"
-[rotor]
-blades = 4
-hinge_offset = 0.3048
-blade_mass = 94.9
-blade_static_moment = 289.1
-blade_inertia = 1084.7
-lag_stiffness = 0.0
-lag_damping = 4067.5
-[body]
-dofs = ["x", "y"]
-mass_x = 8026.6
-mass_y = 3283.6
-stiffness_x = 1240481.8
-stiffness_y = 1240481.8
-damping_x = 51078.7
-damping_y = 25539.35
-[sweep]
-start = 0.5
-stop = 40.0
-points = 60
-unit = "rad/s"
-"""
+GOOD = HAMMOND_TOML
 
 
 def run(*args):

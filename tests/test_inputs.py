@@ -13,39 +13,18 @@ import time
 import pytest
 from click.testing import CliRunner
 
+from conftest import HAMMOND_TOML
 from groundres import Blade, Body, Case, Rotor, Sweep
 from groundres.cli import main
 from groundres.config import SCHEMA, CaseError, load_case
 from groundres.params import MAX_BLADES, MAX_POINTS, ParameterError, shown
 from groundres.system import System
 
-GOOD = """title = "test"
-[rotor]
-blades = 4
-hinge_offset = 0.3048
-blade_mass = 94.9
-blade_static_moment = 289.1
-blade_inertia = 1084.7
-lag_stiffness = 0.0
-lag_damping = 4067.5
-[[rotor.blade]]
-index = 2
-lag_damping = 4067.5
-[body]
-dofs = ["x", "y"]
-mass_x = 8026.6
-mass_y = 3283.6
-stiffness_x = 1240481.8
-stiffness_y = 1240481.8
-damping_x = 51078.7
-damping_y = 25539.35
-[sweep]
-start = 0.5
-stop = 40.0
-points = 60
-unit = "rad/s"
-reference = 16.0
-"""
+#: The Hammond case with blade 2's damper given on its own and a reference speed.
+GOOD = (
+    HAMMOND_TOML.lstrip("\n").replace("[body]", "[[rotor.blade]]\nindex = 2\nlag_damping = 4067.5\n[body]")
+    + "reference = 16.0\n"
+)
 #: A pitch-roll body in case-file form, and a unit one for the library.
 PITCH_ROLL = """inertia_pitch = 2.5e4
 inertia_roll = 9e3

@@ -98,8 +98,7 @@ class _Solver:
             working = [True] * len(blades)
         value = scale_to if in_unit else scale_to / self.unit
         new = tuple(replace(b, lag_damping=value) if w else b for b, w in zip(blades, working))
-        out = type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
-        return out
+        return type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
 
     def _fit(self, band: float):
         """Coefficients of the form's matrices fitted at 0, band / 2 and band [rad/s]."""
@@ -222,11 +221,11 @@ class _Rotating(_Solver):
 
     def roots(self, speeds):
         mats = self.system.rotating_axes(np.atleast_1d(speeds))
-        return modal.block_eigenvalues(*mats, modal.coupling_blocks(*mats))
+        return modal.block_eigenvalues(*mats, self._blocks(mats))
 
     def sweep(self, speeds, progress=None):
         mats = self.system.rotating_axes(speeds)
-        raw = modal.track(modal.solve(*mats, modal.coupling_blocks(*mats)), speeds)
+        raw = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
         if progress is not None:
             progress(len(speeds), len(speeds))
         # one period of the motion seen from nonrotating axes: body axes turned by psi
@@ -299,9 +298,7 @@ _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floque
 
 def root_solver(case: Case, form: str | None = None):
     """The solver of a case's roots (``.roots(speeds)``) by method form."""
-    unit = limits.mass_unit(case.rotor, case.body)
-    system = System(*limits.in_mass_unit(case.rotor, case.body, unit))
-    return _SOLVERS[form or choose_method(case)](system, unit)
+    return _SOLVERS[form or choose_method(case)](*limits.system_in_mass_unit(case.rotor, case.body))
 
 
 def _smallest_damping_ratio_at(solver, modes: Modes, speeds, w: float) -> float:
@@ -373,8 +370,7 @@ def analyze(
     form = choose_method(case, method)
     frame = frame or case.sweep.frame
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
-    unit = limits.mass_unit(case.rotor, case.body)
-    system = System(*limits.in_mass_unit(case.rotor, case.body, unit))
+    system, unit = limits.system_in_mass_unit(case.rotor, case.body)
     unit_of_speed = (case.sweep.unit, SPEED_UNITS[case.sweep.unit])
     limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold, unit_of_speed)
     solver = _SOLVERS[form](system, unit)

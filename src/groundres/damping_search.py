@@ -37,7 +37,7 @@ def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
     work, steps = limits.floquet_work(system, speeds)
     work += limits.floquet_work(system, probe, lift=False)[0]
     if search is not None:  # (None: no damping search)
-        scans, per = limits.floquet_work(system, search, lift=False)
+        scans, _ = limits.floquet_work(system, search, lift=False)
         typical = scans / max(len(search), 1)
         work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
     limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)

@@ -99,9 +99,13 @@ def _check_writable(given, folder: Path) -> None:
     try:
         os.rmdir(tempfile.mkdtemp(dir=folder, prefix=f"{_HIDDEN}probe-"))
     except OSError as err:
-        raise OutputFolderError(
-            f"output folder {given}: cannot write in {folder} ({err.strerror}); choose another --out"
-        ) from None
+        raise _unwritable(given, folder, err) from None
+
+
+def _unwritable(given, folder, err: OSError) -> OutputFolderError:
+    return OutputFolderError(
+        f"output folder {given}: cannot write in {folder} ({err.strerror}); choose another --out"
+    )
 
 
 @contextlib.contextmanager
@@ -130,10 +134,7 @@ def output_folder(path: str | Path):
                     )
                 )
             except OSError as err:
-                raise OutputFolderError(
-                    f"output folder {path}: cannot write in {target.parent} ({err.strerror}); "
-                    "choose another --out"
-                ) from None
+                raise _unwritable(path, target.parent, err) from None
         yield fresh
         os.chmod(fresh, 0o777 & ~current_umask())
         with _signals_deferred(), _locked(target.parent):

@@ -39,8 +39,9 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .modal import state_matrix
+from .modal import unit_mass_state_matrix
 from .params import Blade, Body, Rotor
+from .system import System
 
 EPS = float(np.finfo(float).eps)
 #: Real parts are trusted to ROUND_OFF * eps * (fastest rate of the system).
@@ -94,6 +95,12 @@ def in_mass_unit(rotor: Rotor, body: Body, unit: float) -> tuple[Rotor, Body]:
         if f.name.startswith(_BODY_KINDS) and getattr(body, f.name)
     }
     return replace(rotor, blades=blades), replace(body, **changes)
+
+
+def system_in_mass_unit(rotor: Rotor, body: Body) -> tuple[System, float]:
+    """The equations of a case computed in its mass unit (:func:`mass_unit`), and that unit [kg]."""
+    unit = mass_unit(rotor, body)
+    return System(*in_mass_unit(rotor, body, unit)), unit
 
 
 # -- resolution -------------------------------------------------------------------
@@ -191,19 +198,23 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
     return out
 
 
-def _scaled_state(m, c, k):
-    """State matrices with coordinates scaled so that the mass matrix has a unit diagonal."""
-    d = 1.0 / np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
-    return state_matrix(*(x * d[..., :, None] * d[..., None, :] for x in (m, c, k)))
+#: Azimuths [rad] the equations are frozen at to read their magnitudes and rates.
+_AZIMUTHS = np.linspace(0, 2 * np.pi, 4, endpoint=False)[:, None]
 
 
-def _finite_at(system, speeds, psi) -> bool:
+def _finite_matrices(system, speeds, psi=_AZIMUTHS):
+    """M, C, K at ``speeds`` and azimuths ``psi``, or None where any entry overflows."""
     with np.errstate(over="ignore", invalid="ignore"):
         m, c, k = system.matrices(np.asarray(speeds, dtype=float), psi)
-        return bool(np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all())
+        finite = np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all()
+    return (m, c, k) if finite else None
 
 
-def _largest_finite_speed(system, lo: float, hi: float, psi) -> float:
+def _finite_at(system, speeds, psi=_AZIMUTHS) -> bool:
+    return _finite_matrices(system, speeds, psi) is not None
+
+
+def _largest_finite_speed(system, lo: float, hi: float, psi=_AZIMUTHS) -> float:
     """The largest speed [rad/s] in [lo, hi] at which the equations are finite (lo is), to 1 %."""
     lo = max(lo, 1e-300)
     for _ in range(200):  # bisection on log speed
@@ -217,10 +228,9 @@ def _largest_finite_speed(system, lo: float, hi: float, psi) -> float:
 def check_representable(system, speed: float, key: str, speed_unit=("rad/s", 1.0)) -> None:
     """Refuse a rotor speed [rad/s] at which the equations overflow, naming ``key``
     and the largest speed the case can be represented at (in the case's unit)."""
-    psi = np.linspace(0, 2 * np.pi, 4, endpoint=False)
-    if _finite_at(system, [speed], psi[:, None]):
+    if _finite_at(system, [speed]):
         return
-    top = _largest_finite_speed(system, 0.0, speed, psi[:, None])
+    top = _largest_finite_speed(system, 0.0, speed)
     name, factor = speed_unit
     raise ModelRangeError(
         f"{key} = {speed / factor:.6g} {name}: the equations overflow in double precision at that "
@@ -238,19 +248,17 @@ def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
         If the coefficients are not finite or the mass matrix is singular.
     """
     speeds = np.asarray(speeds, dtype=float)
-    psi = np.linspace(0, 2 * np.pi, 4, endpoint=False)
-    with np.errstate(over="ignore", invalid="ignore"):
-        m, c, k = system.matrices(speeds, psi[:, None])
-        finite = np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(k).all()
+    mats = _finite_matrices(system, speeds)
     slow, fast = float(speeds.min()), float(speeds.max())
-    if not finite and fast > 0 and _finite_at(system, [slow], psi):
+    if mats is None and fast > 0 and _finite_at(system, [slow]):
         check_representable(system, fast, "[sweep] stop", speed_unit)
-    if not finite:
+    if mats is None:
         raise ModelRangeError(
             "the equations of this case overflow in double precision: a length (hinge_offset, "
             "hub_height) or a product of parameters is too large; keep lengths below about 1e100 m "
             "and the ratios of like parameters within about 1e100"
         )
+    m, c, k = mats
     d = np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
     unit_mass = m / (d[..., :, None] * d[..., None, :])
     if np.linalg.eigvalsh(unit_mass).min() <= 1e-12:
@@ -260,7 +268,7 @@ def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
             "give the body more mass or the blade more inertia"
         )
     with np.errstate(over="ignore", invalid="ignore"):
-        roots = np.linalg.eigvals(_scaled_state(m, c, k))
+        roots = np.linalg.eigvals(unit_mass_state_matrix(m, c, k)[0])
     return np.abs(roots).max(-1).max(0)
 
 

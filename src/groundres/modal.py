@@ -34,6 +34,16 @@ def state_matrix(mass, damping, stiffness):
     return a
 
 
+def unit_mass_state_matrix(mass, damping, stiffness):
+    """:func:`state_matrix` in coordinates scaled so that the mass matrix has a
+    unit diagonal, and the scales d (the state is balanced whatever the units
+    and sizes of body and blades; a similarity: the roots are the same, a
+    displacement eigenvector is ``d[..., :, None] * v[..., :n, :]``)."""
+    d = 1.0 / np.sqrt(np.abs(np.diagonal(mass, axis1=-2, axis2=-1)))
+    scale = d[..., :, None] * d[..., None, :]
+    return state_matrix(mass * scale, damping * scale, stiffness * scale), d
+
+
 def _normalised(mass, damping, stiffness):
     """Matrices scaled so that entries of every row/column are comparable."""
     d = np.sqrt(np.abs(np.diagonal(mass, axis1=-2, axis2=-1)))
@@ -113,12 +123,7 @@ def block_eig(m, c, k, vectors=True):
             return w
         v = np.array([[1, 1, 1, 1], [-1j, -1j, 1j, 1j]]) / np.sqrt(2)
         return w, np.broadcast_to(v, w.shape[:-1] + (2, 4)).copy()
-    # coordinates scaled so that the mass matrix has a unit diagonal: the
-    # state matrix is then balanced whatever the units and sizes of the body
-    # and the blades (a similarity: the roots are the same)
-    d = 1.0 / np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
-    scale = d[..., :, None] * d[..., None, :]
-    a = state_matrix(m * scale, c * scale, k * scale)
+    a, d = unit_mass_state_matrix(m, c, k)
     if not vectors:
         return _batched(np.linalg.eigvals, a)
     w, v = _batched(np.linalg.eig, a)

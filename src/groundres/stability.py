@@ -56,7 +56,7 @@ class Stability:
     open_below : float or None
         Where the first range begins at the lowest speed the analysis reaches
         above rest (a periodic analysis costs more the slower the rotor: see
-        :func:`groundres.analysis.lowest_periodic_speed`), that speed [rad/s]:
+        :func:`groundres.limits.lowest_periodic_speed`), that speed [rad/s]:
         the range may begin lower. None otherwise.
     """
 
@@ -82,10 +82,16 @@ def _refine_max(fun, speeds, values, i, xtol=1e-6):
         lo = speeds[i]
     if hi <= lo:
         return values[i], speeds[i]
-    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi})
-    if -res.fun > values[i]:
-        return float(-res.fun), float(res.x)
+    top, at = _maximise(fun, lo, hi, xtol)
+    if top > values[i]:
+        return top, at
     return float(values[i]), float(speeds[i])
+
+
+def _maximise(fun, lo: float, hi: float, xtol: float) -> tuple[float, float]:
+    """Largest value of ``fun`` on [lo, hi] and where (bounded Brent, to ``xtol`` relative to hi)."""
+    res = minimize_scalar(lambda w: -fun(w), bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi})
+    return float(-res.fun), float(res.x)
 
 
 def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, floor=0.0):
@@ -157,9 +163,7 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
         if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
             continue
         # a range narrower than the grid: its ends on either side of the peak
-        start = _end(excess, lo, at)
-        end = hi if float(excess(np.array([hi]))[0]) > 0 else scan.crossing(excess, at, hi)
-        found.append([float(start), float(end), at, top])
+        found.append([float(_end(excess, lo, at)), float(_fall(excess, at, hi)), at, top])
     if closeness is not None:
         near = np.asarray(closeness(grid), float)
         for i in scan.local_maxima(-near, peaks):
@@ -175,8 +179,7 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
             if v.max() <= 0:
                 continue
             at = float(probe[int(np.argmax(v))])
-            start, end = _end(excess, lo, at), _end(lambda w: excess(-np.asarray(w)), -hi, -at)
-            found.append([float(start), -float(end), at, float(v.max())])
+            found.append([float(_end(excess, lo, at)), float(_fall(excess, at, hi)), at, float(v.max())])
     ranges, peaks = _merged(found)
     return ranges, peaks, (open_at if ranges and open_at is not None and ranges[0][0] == open_at else None)
 
@@ -224,6 +227,13 @@ def _end(excess, lo, hi):
     """The rising crossing in [lo, hi], or lo if excess is already positive there."""
     if float(excess(np.array([lo]))[0]) > 0:
         return lo
+    return scan.crossing(excess, lo, hi)
+
+
+def _fall(excess, lo, hi):
+    """The falling crossing in [lo, hi], or hi if excess is still positive there."""
+    if float(excess(np.array([hi]))[0]) > 0:
+        return hi
     return scan.crossing(excess, lo, hi)
 
 
@@ -279,18 +289,14 @@ def assess(
     if grid[i] in speeds:
         worst = _refine_max(max_real_at, speeds, max_real, sweep_i, xtol)
     else:  # the worst speed lies between the sweep's: refine there
-        lo, hi = scan.bracket(grid, i)
-        res = minimize_scalar(
-            lambda w: -max_real_at(w), bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi}
-        )
-        worst = (float(-res.fun), float(res.x))
+        worst = _maximise(max_real_at, *scan.bracket(grid, i), xtol)
     at = worst[1]
     if worst[0] > growth_threshold(at) and not any(a <= at <= b for a, b in ranges):
         # the refined worst value grows where no range was found: its range, narrower than the grid
         lo, hi = scan.bracket(grid, i)
         lo, hi = min(lo, at), max(hi, at)
         start = _end(excess, lo, at) if float(excess(np.array([at]))[0]) > 0 else at
-        end = hi if float(excess(np.array([hi]))[0]) > 0 or start == at else scan.crossing(excess, at, hi)
+        end = hi if start == at else _fall(excess, at, hi)
         ranges, peak_speeds = zip(*sorted(list(zip(ranges, peak_speeds)) + [((start, end), at)]))
         ranges, peak_speeds = list(ranges), list(peak_speeds)
     j = int(np.nanargmin(min_damping))
@@ -307,16 +313,13 @@ def assess(
             if kind == "eigen":
                 k = int(np.argmin(np.abs(grid - w)))
                 lo, hi = scan.bracket(grid, k)
-                lo, hi = min(lo, w), max(hi, w)
-                res = minimize_scalar(
-                    min_damping_at, bounds=(lo, hi), method="bounded", options={"xatol": xtol * hi}
-                )
-                if res.fun < ratio:
-                    low = (-float(res.fun), float(res.x))
+                top, where = _maximise(lambda x: -min_damping_at(x), min(lo, w), max(hi, w), xtol)
+                if top > -ratio:
+                    low = (top, where)
     return Stability(
         unstable_ranges=ranges,
         max_real_part=worst,
         min_damping_ratio=(-low[0], low[1]),
         peak_speeds=tuple(peak_speeds),
-        open_below=open_below if ranges and open_below == ranges[0][0] else None,
+        open_below=open_below,  # (no range is added below it: it starts at the lowest speed)
     )

@@ -88,13 +88,10 @@ def case_at_speed(case: str | None, speed: float):
     if not (math.isfinite(w) and w > 0):
         fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
     from .. import limits
-    from ..system import System
 
-    rotor, body = limits.in_mass_unit(
-        the_case.rotor, the_case.body, limits.mass_unit(the_case.rotor, the_case.body)
-    )
+    system, _ = limits.system_in_mass_unit(the_case.rotor, the_case.body)
     try:
-        limits.check_representable(System(rotor, body), w, "--speed", (unit, SPEED_UNITS[unit]))
+        limits.check_representable(system, w, "--speed", (unit, SPEED_UNITS[unit]))
     except limits.ModelRangeError as err:
         fail_user(str(err))
     return the_case, w
