@@ -15,8 +15,6 @@ Which method (see ``docs/conventions.md``):
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from . import damping_search, floquet, identify, limits, modal, scan, stability
@@ -90,15 +88,11 @@ class _Solver:
         (in the equations' mass unit if ``in_unit``, :func:`groundres.limits.mass_unit`).
 
         Blades without a lag damper keep none (a failed damper stays failed),
-        unless no blade has one, in which case all get it.
+        unless no blade has one, in which case all get it
+        (:meth:`groundres.system.System.with_lag_damping`).
         """
-        blades = self.system.rotor.blades
-        working = [b.lag_damping > 0 for b in blades]
-        if not any(working):
-            working = [True] * len(blades)
         value = scale_to if in_unit else scale_to / self.unit
-        new = tuple(replace(b, lag_damping=value) if w else b for b, w in zip(blades, working))
-        return type(self)(System(replace(self.system.rotor, blades=new), self.system.body), self.unit)
+        return type(self)(self.system.with_lag_damping(value), self.unit)
 
     def _fit(self, band: float):
         """Coefficients of the form's matrices fitted at 0, band / 2 and band [rad/s]."""
@@ -252,13 +246,39 @@ class _Floquet(_Solver):
     kind = "floquet"
     closeness = None  # (exponents are known modulo Omega: ranges come from the grid and its peaks)
 
-    def roots(self, speeds):
-        return floquet.solve(self.system, np.atleast_1d(speeds), harmonics=0).exponent
+    def __init__(self, system, unit=1.0, split=None, lag_damping=None):
+        super().__init__(system, unit)
+        # a trial lag damping of the damping search: the equations without the working
+        # dampers, shared by every trial (one set of node matrices), and the damping
+        self.split, self.lag_damping = split, lag_damping
 
-    def growth(self, speeds):
-        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`)."""
+    def with_lag_damping(self, value, in_unit=False):
+        value = value if in_unit else value / self.unit
+        if self.split is None:
+            self.split = self.system.lag_damping_split()
+        return _Floquet(self.system.with_lag_damping(value), self.unit, self.split, value)
+
+    def _solve(self, speeds, lag_damping=None, **kw):
+        """Floquet analysis at ``speeds``, with a lag damping per speed on the shared split system."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-        return floquet.solve(self.system, speeds, harmonics=0, lift=False).exponent.real.max(-1)
+        lag_damping = self.lag_damping if lag_damping is None else lag_damping
+        if lag_damping is None:
+            return floquet.solve(self.system, speeds, **kw)
+        if self.split is None:
+            self.split = self.system.lag_damping_split()
+        # (the family's symmetry: working dampers alike and nonzero, failed ones failed)
+        sym = floquet.symmetry(self.split.with_lag_damping(1.0))
+        return floquet.solve(self.split, speeds, lag_damping=lag_damping, sym=sym, **kw)
+
+    def roots(self, speeds):
+        return self._solve(speeds, harmonics=0).exponent
+
+    def growth(self, speeds, lag_damping=None):
+        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`).
+
+        ``lag_damping`` (per speed, in the equations' unit) on the working dampers, if given.
+        """
+        return self._solve(speeds, lag_damping, harmonics=0, lift=False).exponent.real.max(-1)
 
     solved = None
 

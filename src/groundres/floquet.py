@@ -266,6 +266,8 @@ def solve(
     tableau=DOP8,
     lift: bool = True,
     progress=None,
+    lag_damping=None,
+    sym: Symmetry | None = None,
 ) -> FloquetSolution:
     """Floquet exponents, multipliers and (if ``harmonics`` > 0) periodic eigenvectors.
 
@@ -286,9 +288,18 @@ def solve(
         smallest do, but the real parts of strongly damped roots are not.
     progress : callable, optional
         ``progress(done, total)`` in speeds, called as batches of speeds are done.
+    lag_damping : float or ndarray (n_s,), optional
+        Lag damping on the working dampers at each speed [in the system's
+        units]; ``system`` is then the split one
+        (:meth:`groundres.system.System.lag_damping_split`): one set of node
+        matrices serves every damping.
+    sym : Symmetry, optional
+        The symmetry to use (that of the system with its dampers, where
+        ``system`` is a split one, whose blades may look more alike).
     """
     speeds = np.asarray(speeds, dtype=float)
-    sym = symmetry(system)
+    sym = symmetry(system) if sym is None else sym
+    damping = None if lag_damping is None else np.broadcast_to(np.asarray(lag_damping, float), speeds.shape)
     n = system.size
     m = 2 * n
     n_s = len(speeds)
@@ -307,7 +318,10 @@ def solve(
         # the rotor at rest: constant coefficients; multipliers over the lowest
         # moving speed's period, so that branches continue into the sweep
         period = sym.angle / speeds[moving].min() if len(moving) else 1.0
-        lam, x = np.linalg.eig(state_matrix(*system.matrices(speeds[still], 0.0)))
+        mass, damp, stiff = system.matrices(speeds[still], 0.0)
+        if damping is not None:
+            damp = damp + damping[still, None, None] * system.damping_direction
+        lam, x = np.linalg.eig(state_matrix(mass, damp, stiff))
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)
         key[still] = _pairing_key(lam, np.full(len(still), period))
         if harmonics:
@@ -315,15 +329,19 @@ def solve(
             out_h[still, :, harmonics, :] = q
     rate, low, high = np.zeros(n_s), np.zeros(n_s), np.zeros(n_s)
     if len(moving):
-        rate[moving], low[moving], high[moving] = frozen_rates(system, speeds[moving])
+        c_moving = None if damping is None else damping[moving]
+        rate[moving], low[moving], high[moving] = frozen_rates(system, speeds[moving], lag_damping=c_moving)
     n_sym = system.n_blades // sym.shift
+
+    def samples(r):
+        """Samples of the reduced period the harmonics need (fastest motion r [1/rad])."""
+        full = 2 * (np.ceil(r) + harmonics) + 2  # over a revolution
+        return np.maximum(-(-full // n_sym), 4).astype(int)
 
     def blocks_for(count, sel):
         if not harmonics:
             return 1
-        order = int(np.ceil(rate[moving[sel]].max()))
-        full = 2 * (order + harmonics) + 2  # samples over a revolution
-        return divisor_at_least(count, max(-(-full // n_sym), 4))
+        return divisor_at_least(count, int(samples(rate[moving[sel]].max())))
 
     finished = speeds <= 0
 
@@ -351,7 +369,8 @@ def solve(
                         float(w[j]), f"sees its roots decay over about {spread[j]:.0f} e-folds in one period"
                     )
                 n_parts = math.lcm(len(parts), k_parts) if harmonics else k_parts
-                fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau)[:, 0]
+                c_j = None if damping is None else damping[idx[j] : idx[j] + 1]
+                fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau, c_j)[:, 0]
                 z, at = lifted_eig(_group(fine, k_parts), g)
                 if np.ptp(np.log(np.abs(z))) <= LIFT_STEP:
                     break
@@ -374,7 +393,20 @@ def solve(
 
     if len(moving):
         w = speeds[moving]
-        integrate(system, w, sym.angle, tolerance, scale, tableau, blocks_for, accept, rate[moving])
+        least = samples(rate[moving]) if harmonics else None
+        integrate(
+            system,
+            w,
+            sym.angle,
+            tolerance,
+            scale,
+            tableau,
+            blocks_for,
+            accept,
+            rate[moving],
+            least,
+            None if damping is None else damping[moving],
+        )
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key)
 

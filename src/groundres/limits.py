@@ -57,6 +57,10 @@ _WORK_STATE = 12
 #: Work units per flop-cube of a nonsymmetric eigenvalue problem (measured: a
 #: 1500-row problem costs about as much as 5e4 steps).
 _EIG_PER_STEP = 1.6e-5
+#: Work units of each speed beside its steps, for a 12-state system: its
+#: multipliers, periodic eigenvectors, harmonics and their names (about as
+#: much as 16 steps), and the memory they take.
+_PER_SPEED = 16.0
 
 _BLADE_MASS_LIKE = tuple(f.name for f in fields(Blade) if f.name != "hinge_offset")
 _BODY_KINDS = ("mass_", "inertia_", "stiffness_", "damping_")
@@ -345,9 +349,10 @@ def floquet_work_per_speed(system, speeds, lift: bool = True) -> tuple[np.ndarra
     n = system.size
     # a grid too fine to keep has its coefficient matrices formed again for every
     # speed and every pass, which costs about four times the steps themselves
-    fresh = steps * len(DOP8.c) * n * 2 * n * 3 > GRID_CACHE_SIZE
+    fresh = steps * len(DOP8.c) * n * n * 5 > GRID_CACHE_SIZE
     per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
-    return steps * per_step + _EIG_PER_STEP * rows**3, steps
+    moving = np.asarray(speeds) > 0
+    return (steps + _PER_SPEED * moving) * per_step + _EIG_PER_STEP * rows**3, steps
 
 
 def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tuple[float, np.ndarray]:

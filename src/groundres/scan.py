@@ -137,29 +137,35 @@ class PeakWatch:
     def _around(self, w):
         i = int(np.clip(np.searchsorted(self.grid, w), 0, len(self.grid) - 1))
         lo, hi = bracket(self.grid, i)
-        return [min(lo, w), max(hi, w), w]
+        return [min(lo, w), max(hi, w), w, None]
 
-    def _refine(self, p, span):
-        """Peak in a watched span [lo, hi, last peak] (the grid bracket it came
-        from: a peak that leaves it is found again by the next full scan)."""
+    def _refine(self, p, span, start):
+        """Peak in a watched span [lo, hi, last peak, gain] (the grid bracket it came
+        from: a peak that leaves it is found again by the next full scan); ``gain``
+        is what refining added to ``start``, the value at the last peak."""
         top, at = zoom_max(lambda w: self.fun(p, w), span[0], span[1], self.xtol)
-        span[2] = at
+        span[2], span[3] = at, max(top - start, 0.0)
         return top, at
 
     def watched(self, p):
         """Largest value over the watched peaks (-inf if none).
 
         The last peaks are tried first, in one call: where one is still
-        positive the verdict needs no refinement; else the highest is refined.
+        positive the verdict needs no refinement; else the highest that is
+        not flat (whose refinement gained something before, or that was never
+        refined) is refined.
         """
         if not self.brackets:
             return -np.inf
         last = np.asarray(self.fun(p, np.array([span[2] for span in self.brackets])), float)
         if last.max() > 0:
             return float(last.max())
-        # the highest of them refined (the others lie well below it, or a full scan will tell)
-        k = int(np.argmax(last))
-        top, _ = self._refine(p, self.brackets[k])
+        # (a flat peak, such as a neutral root's, gains nothing by refining)
+        live = [k for k, span in enumerate(self.brackets) if span[3] is None or span[3] > 1e-6 * abs(last[k])]
+        if not live:
+            return float(last.max())
+        k = max(live, key=lambda j: last[j])
+        top, _ = self._refine(p, self.brackets[k], last[k])
         self.brackets.insert(0, self.brackets.pop(k))
         return max(top, float(last.max()))
 
@@ -174,12 +180,13 @@ class PeakWatch:
         best, gain, spans = float(values.max()), None, []
         for i in local_maxima(values, self.peaks):
             lo, hi = bracket(self.grid, i)
-            span = [lo, hi, self.grid[i]]
+            span = [lo, hi, self.grid[i], None]
             if hi > lo and (gain is None or values[i] + 4 * gain > 0):
-                top, _ = self._refine(p, span)
+                top, _ = self._refine(p, span, values[i])
                 best = max(best, top)
                 gain = max(gain or 0.0, top - values[i])
-            spans.append(span)
+            if all(abs(span[2] - t[2]) > 4 * self.xtol * abs(t[2]) for t in spans):
+                spans.append(span)
         kept = [b for b in self.brackets if all(abs(b[2] - s[2]) > 4 * self.xtol * abs(s[2]) for s in spans)]
         self.brackets = (spans + kept)[: 2 * self.peaks]
         return best

@@ -8,6 +8,7 @@ give the time-invariant forms where they exist (see :mod:`groundres.mbc`).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import cached_property
 
 import numpy as np
@@ -50,6 +51,12 @@ class System:
         own = ~((rows < self.n_body) & (cols < self.n_body))
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
+        #: Blades whose lag damper works: those with one, or all of them where none has.
+        self.working = [b.lag_damping > 0 for b in rotor.blades]
+        if not any(self.working):
+            self.working = [True] * self.n_blades
+        #: dC/dc of a lag damping c set on the working dampers (:meth:`lag_damping_split`).
+        self.damping_direction = None
 
     @cached_property
     def coordinates(self) -> list[Coordinate]:
@@ -127,6 +134,29 @@ class System:
         flat, rows, cols = self._scatter
         out[..., rows, cols] = blades.reshape(blades.shape[:-3] + (-1,))[..., flat]
         return out
+
+    def with_lag_damping(self, value: float) -> System:
+        """The same equations with lag damping ``value`` on every working damper.
+
+        A failed damper (none on a blade while others have one) stays failed.
+        """
+        blades = tuple(
+            replace(b, lag_damping=value) if w else b for b, w in zip(self.rotor.blades, self.working)
+        )
+        return System(replace(self.rotor, blades=blades), self.body)
+
+    def lag_damping_split(self) -> System:
+        """The equations without their working lag dampers, carrying dC/dc.
+
+        The damping matrix is affine in the lag damping c set on every working
+        damper: C(c) = C_0 + c dC/dc, with C_0 that of the returned system and
+        dC/dc (n, n), constant in azimuth (a lag damper acts between a blade and
+        the hub, both turning with the rotor), in its ``damping_direction``.
+        """
+        off, unit = self.with_lag_damping(0.0), self.with_lag_damping(1.0)
+        off.working = list(self.working)  # (without dampers it would mark every blade working)
+        off.damping_direction = unit.matrices(np.zeros(1))[1, 0] - off.matrices(np.zeros(1))[1, 0]
+        return off
 
     # -- time-invariant forms -------------------------------------------------
 

@@ -1,27 +1,29 @@
 """Transition matrices of the periodic equations on a fixed azimuth grid.
 
-The blade-coordinate equations M(psi) q'' + C(psi) q' + K(psi) q = 0 are
-integrated in the azimuth psi = Omega t. With q' = dq/dpsi they read
-
-    q'' = (F_a(psi) + F_b(psi) / Omega + F_c(psi) / Omega^2) [q; q'],
-
-because the mass matrix does not depend on Omega, damping is C0 + Omega C1 and
-stiffness K0 + Omega K1 + Omega^2 K2 (dampers and springs; Coriolis;
-centrifugal). The three F matrices are evaluated exactly from the derived
-harmonics at the nodes of a fixed azimuth grid, once for all speeds, so that a
-step for every speed of a sweep costs a few batched matrix products.
+The blade-coordinate equations are integrated in the azimuth psi = Omega t as
+q'' = (F_a(psi) + F_b(psi) / Omega + F_c(psi) / Omega^2) [q; q'], with the
+F matrices evaluated exactly at the nodes of a fixed azimuth grid, once for
+all speeds and every lag damping (:mod:`groundres.nodes`).
 
 The integrator is the eighth-order Runge-Kutta method of Dormand and Prince
 (the twelve stages of DOP853) on a fixed grid, chosen on evidence: for
 multipliers to 1e-10 it needs three to five times fewer stage evaluations
-than a sixth-order method (Butcher 1964, kept as BUTCHER6 for comparison). The
-equations are linear, so every step's propagator is formed independently, for
-all steps and speeds of a batch at once, and multiplied together by pairwise
-reduction. The step count is chosen per speed: a first guess from the fastest
-rate of the system per radian, then a Richardson estimate against a coarser
-grid, and more steps where it is not met (:func:`integrate`). Speeds with the
-same step count are integrated together. ``benchmarks/bench_floquet.py``
-compares it with SciPy's adaptive DOP853.
+than a sixth-order method (Butcher 1964, kept as BUTCHER6 for comparison).
+Two paths compute the same matrices:
+
+* the compiled kernel (:mod:`groundres.propagate`, the default), which
+  integrates each speed's transition matrix step by step and estimates its
+  error from the method's embedded estimators, so that a speed whose
+  estimate is too large is integrated once more with the step count the
+  estimate predicts (:func:`integrate`);
+* the NumPy reference, which forms every step's propagator for all steps and
+  speeds of a batch at once and multiplies them together by pairwise
+  reduction; its step count comes from a Richardson estimate against a
+  coarser grid. Tests hold the two together.
+
+The step count is chosen per speed (a first guess from the fastest rate of
+the system per radian), and speeds with the same step count are integrated
+together. ``benchmarks/bench_floquet.py`` compares it with SciPy's adaptive DOP853.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from fractions import Fraction as _F
 import numpy as np
 
 from . import _dop853
+from .nodes import GRID_CACHE_SIZE, expand, grid_nodes, node_blocks, node_coefficients, node_matrices  # noqa: F401
 from .parallel import CORES, map_threads
 from .system import System
 
@@ -78,12 +81,14 @@ STEP_SCALE = 1.0
 HARMONIC_RATE = 2.0
 #: Accuracy asked of the transition matrix (entries, relative to max(1, |Phi|)).
 TOLERANCE = 5e-11
-#: Smallest step count per interval (the first rung of the step ladder).
+#: Smallest step count per interval of the NumPy reference's Richardson ladder.
 BASE_STEPS = 32
+#: Smallest step count per interval of the compiled path (:func:`compiled_ladder`).
+LEAST_STEPS = 16
 #: Largest step count per interval.
 MAX_STEPS = 1 << 20
 #: Steps over an interval per (radians of the fastest motion)^(9/8) (:func:`estimated_steps`).
-STEPS_FACTOR = 3.0
+STEPS_FACTOR = 1.4
 
 
 class SpeedRangeError(ValueError):
@@ -98,48 +103,15 @@ class SpeedRangeError(ValueError):
         self.speed = speed
 
 
-def _harmonic_basis(psi):
-    """(1, cos psi, sin psi, cos 2 psi, sin 2 psi) along a new last axis."""
-    return np.stack([np.ones_like(psi), np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)], -1)
+def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
+    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
 
-
-def node_matrices(system: System, psi) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """F_a, F_b, F_c at azimuths ``psi`` (any shape), each (..., n, 2n).
-
-    q'' = (F_a + F_b / Omega + F_c / Omega^2) [q; q'] with ' = d/dpsi.
-
-    Every coefficient of the blade-coordinate equations is a trigonometric
-    polynomial of degree two in the azimuth, so the mass, damping and
-    stiffness matrices are fitted exactly from five azimuths (at three
-    speeds, which separate C0 + Omega C1 and K0 + Omega K1 + Omega^2 K2) and
-    evaluated at the nodes from their harmonics.
+    With ``lag_damping`` (per speed) the system is a split one (:func:`transition`).
     """
-    psi = np.asarray(psi, dtype=float)
-    theta = 2 * np.pi * np.arange(5) / 5
-    probe = np.array([0.0, 1.0, 2.0])
-    m, c, k = system.matrices(probe, theta[:, None])  # (5 azimuths, 3 speeds, n, n)
-    c0, c1 = c[:, 0], c[:, 1] - c[:, 0]
-    k0 = k[:, 0]
-    k2 = (k[:, 2] - 2 * k[:, 1] + k0) / 2
-    k1 = k[:, 1] - k0 - k2
-    n = m.shape[-1]
-    values = np.zeros((5, 2, n, 6 * n))  # mass (in the first n columns), right-hand sides
-    values[:, 0, :, :n] = m[:, 0]
-    values[:, 1] = np.concatenate([k2, c1, k1, c0, k0, np.zeros_like(k0)], -1)
-    coeff = np.einsum("hj,jxab->hxab", np.linalg.inv(_harmonic_basis(theta)), values)
-    at = np.einsum("...h,hxab->...xab", _harmonic_basis(psi), coeff, optimize=True)
-    sol = -np.linalg.solve(at[..., 0, :, :n], at[..., 1, :, :])
-    n2 = 2 * n
-    return sol[..., :n2], sol[..., n2 : 2 * n2], sol[..., 2 * n2 :]
-
-
-def frozen_roots(system: System, speeds, probes=2) -> np.ndarray:
-    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n)."""
     speeds = np.asarray(speeds, dtype=float)
     psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
-    fa, fb, fc = node_matrices(system, psi)
-    inv = 1.0 / speeds
-    f = fa[:, None] + fb[:, None] * inv[:, None, None] + fc[:, None] * (inv**2)[:, None, None]
+    damping = lag_damping is not None
+    f = np.swapaxes(expand(node_blocks(system, psi, damping), node_coefficients(speeds, lag_damping)), 0, 1)
     n = f.shape[-2]
     a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
@@ -147,12 +119,14 @@ def frozen_roots(system: System, speeds, probes=2) -> np.ndarray:
     return np.linalg.eigvals(a)
 
 
-def rates_per_radian(system: System, speeds, probes=2) -> np.ndarray:
+def rates_per_radian(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
     """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
-    return np.abs(frozen_roots(system, speeds, probes)).max(-1).max(0)
+    return np.abs(frozen_roots(system, speeds, probes, lag_damping)).max(-1).max(0)
 
 
-def frozen_rates(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def frozen_rates(
+    system: System, speeds, probes=4, lag_damping=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fastest rate per radian and smallest, largest real part [1/s] from one frozen solve.
 
     (:func:`rates_per_radian` and the real parts at once; azimuths 0, pi/2, pi,
@@ -162,34 +136,9 @@ def frozen_rates(system: System, speeds, probes=4) -> tuple[np.ndarray, np.ndarr
     before it has any root.
     """
     speeds = np.asarray(speeds, dtype=float)
-    roots = frozen_roots(system, speeds, probes)
+    roots = frozen_roots(system, speeds, probes, lag_damping)
     real = roots.real * speeds[:, None]
     return np.abs(roots).max(-1).max(0), real.min(-1).min(0), real.max(-1).max(0)
-
-
-#: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
-GRID_CACHE_SIZE = 4_000_000
-
-
-def grid_matrices(
-    system: System, angle: float, steps: int, tableau=DOP8, first: int = 0, last: int | None = None
-):
-    """F_a, F_b, F_c at the stage nodes of steps first..last of a fixed grid: each (k, stages, n, 2n).
-
-    Grids up to GRID_CACHE_SIZE values are kept on the system (a few of them)
-    so that repeated analyses reuse them; finer ones are evaluated as asked.
-    """
-    last = steps if last is None else last
-    h = angle / steps
-    n = system.size
-    if steps * len(tableau.c) * n * 2 * n * 3 > GRID_CACHE_SIZE:
-        return node_matrices(system, (np.arange(first, last)[:, None] + tableau.c[None, :]) * h)
-    key = (angle, int(steps), id(tableau))
-    if key not in system.grid_cache:
-        if len(system.grid_cache) > 16:
-            system.grid_cache.clear()
-        system.grid_cache[key] = node_matrices(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h)
-    return tuple(x[first:last] for x in system.grid_cache[key])
 
 
 def ordered_product(p):
@@ -203,7 +152,7 @@ def ordered_product(p):
     return p[0]
 
 
-def _step_propagators(fa, fb, fc, inv, h, tableau):
+def _step_propagators(nodes, coef, h, tableau):
     """One-step propagators of the Runge-Kutta method for every step and speed.
 
     The equation is linear, so each step's propagator P = I + h sum b_i K_i
@@ -213,12 +162,11 @@ def _step_propagators(fa, fb, fc, inv, h, tableau):
     L_i = F_i Y_i are stored, because the upper halves follow from them:
     Y_i = [I_q + h c_i I_v + h^2 sum (A^2)_il L_l ; I_v + h sum a_il L_l].
     """
-    steps, stages, n, n2 = fa.shape
-    n_s = len(inv)
-    coef = np.stack([np.ones_like(inv), inv, inv**2])  # (3, n_s)
-    # F at every node and speed with one matrix product, laid out (stages, steps, n_s, n, 2n)
-    nodes = np.stack([fa, fb, fc], 2).reshape(steps, stages, 3, n * n2)
-    f = np.einsum("tspm,pk->stkm", nodes, coef, optimize=True).reshape(stages, steps, n_s, n, n2)
+    steps, stages, n, _ = nodes.shape
+    n2 = 2 * n
+    n_s = len(coef)
+    # F at every node and speed, laid out (stages, steps, n_s, n, 2n)
+    f = np.moveaxis(expand(nodes, coef), 0, 2).swapaxes(0, 1)
     a, b, c = tableau.a, tableau.b, tableau.c
     a2 = a @ a
     eye_q, eye_v = np.eye(n2)[:n], np.eye(n2)[n:]
@@ -245,12 +193,23 @@ def _step_propagators(fa, fb, fc, inv, h, tableau):
 STAGE_BUDGET = 3_000_000
 
 
-def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1, tableau=DOP8):
+def transition(
+    system: System,
+    speeds,
+    angle: float,
+    steps: int,
+    blocks: int = 1,
+    tableau=DOP8,
+    lag_damping=None,
+    compiled: bool = True,
+):
     """Azimuth-domain transition matrices over equal parts of [0, angle], for a batch of speeds.
 
     Parameters
     ----------
     system : System
+        With ``lag_damping``, the system without its working dampers
+        (:meth:`groundres.system.System.lag_damping_split`).
     speeds : ndarray (n_s,)
         Rotor speeds [rad/s] integrated together.
     angle : float
@@ -260,25 +219,84 @@ def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1
     blocks : int
         Number of equal consecutive parts of the interval.
     tableau : Tableau
+    lag_damping : ndarray (n_s,), optional
+        Lag damping set on the working dampers at each speed [in the system's units].
+    compiled : bool
+        The compiled kernel (:mod:`groundres.propagate`, DOP8 only) or the NumPy reference.
 
     Returns
     -------
     ndarray (blocks, n_s, 2n, 2n)
         Transition matrix of y = [q; dq/dpsi] over each part; their ordered
         product (:func:`ordered_product`) is the one over [0, angle].
+    """
+    if compiled and tableau is DOP8:
+        return transition_estimated(system, speeds, angle, steps, blocks, lag_damping)[0]
+    return _reference(system, speeds, angle, steps, blocks, tableau, lag_damping)
+
+
+def _pieces(system: System, steps: int, blocks: int, sets: int, stages: int):
+    """Runs of steps evaluated at once, each within GRID_CACHE_SIZE node values:
+    [(first part, last part, [(first step, last step), ...])] (several runs for one part where it is long)."""
+    n = system.size
+    room = max(1, GRID_CACHE_SIZE // (stages * n * 2 * n * sets))  # steps per run
+    per = steps // blocks
+    if per <= room:
+        k = max(1, room // per)
+        return [(b, min(b + k, blocks), [(b * per, min(b + k, blocks) * per)]) for b in range(0, blocks, k)]
+    return [
+        (b, b + 1, [(s0, min(s0 + room, (b + 1) * per)) for s0 in range(b * per, (b + 1) * per, room)])
+        for b in range(blocks)
+    ]
+
+
+def transition_estimated(system: System, speeds, angle: float, steps: int, blocks: int = 1, lag_damping=None):
+    """:func:`transition` by the compiled kernel, with the embedded error estimate of each speed.
+
+    Returns
+    -------
+    parts : ndarray (blocks, n_s, 2n, 2n)
+    error : ndarray (n_s,)
+        Sum of the steps' estimated errors, relative to max(1, |Phi|)
+        (:func:`groundres.propagate.propagate`).
+    """
+    from .propagate import propagate  # (numba is imported with it: only where periodic analyses run)
+
+    speeds = np.asarray(speeds, dtype=float)
+    damping = lag_damping is not None
+    coef = node_coefficients(speeds, lag_damping)
+    h = angle / steps
+    m = 2 * system.size
+    out = np.empty((blocks, len(speeds), m, m))
+    error = np.zeros(len(speeds))
+    for b0, b1, runs in _pieces(system, steps, blocks, coef.shape[1], len(DOP8.c)):
+        acc = None
+        for s0, s1 in runs:
+            nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, damping)
+            got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1)
+            error += err
+            acc = got if acc is None else got @ acc
+        out[b0:b1] = acc
+    return out, error
+
+
+def _reference(system: System, speeds, angle, steps, blocks, tableau, lag_damping):
+    """:func:`transition` by NumPy: every step's propagator formed at once, then their product.
 
     The work is split into tasks (threads) of a few speeds and a run of steps
     each, so that memory stays bounded however fine the grid: whole parts
     where they are short, pieces of a part multiplied together where long.
     """
     speeds = np.asarray(speeds, dtype=float)
+    damping = lag_damping is not None
+    coef_all = node_coefficients(speeds, lag_damping)
     h = angle / steps
     n = system.size
     n2 = 2 * n
     per = steps // blocks
     width = min(len(speeds), -(-len(speeds) // CORES))  # at least one batch per core
     room = max(1, int(STAGE_BUDGET // (len(tableau.c) * n * n2 * width)))  # steps per task
-    groups = [speeds[i : i + width] for i in range(0, len(speeds), width)]
+    groups = [np.arange(i, min(i + width, len(speeds))) for i in range(0, len(speeds), width)]
     if per <= room:
         k = max(1, room // per)
         runs = [(b, min(b + k, blocks)) for b in range(0, blocks, k)]
@@ -286,31 +304,28 @@ def transition(system: System, speeds, angle: float, steps: int, blocks: int = 1
         runs = [(b, b + 1) for b in range(blocks)]
 
     def task(item):
-        w, (b0, b1) = item
-        inv = 1.0 / w
+        sel, (b0, b1) = item
+        coef = coef_all[sel]
         if per <= room:
-            nodes = grid_matrices(system, angle, steps, tableau, b0 * per, b1 * per)
-            props = _step_propagators(*nodes, inv, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
+            nodes = grid_nodes(system, angle, steps, tableau, b0 * per, b1 * per, damping)
+            props = _step_propagators(nodes, coef, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
             return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))
         out = None
         for s0 in range(b0 * per, b1 * per, room):
             s1 = min(s0 + room, b1 * per)
-            p = ordered_product(
-                _step_propagators(*grid_matrices(system, angle, steps, tableau, s0, s1), inv, h, tableau)
-            )
+            nodes = grid_nodes(system, angle, steps, tableau, s0, s1, damping)
+            p = ordered_product(_step_propagators(nodes, coef, h, tableau))
             out = p if out is None else p @ out
         return out[None]
 
-    items = [(w, r) for w in groups for r in runs]
+    items = [(g, r) for g in groups for r in runs]
     done = map_threads(task, items)
     out = np.empty((blocks, len(speeds), n2, n2))
-    start = 0
     k = 0
     for g in groups:
         for b0, b1 in runs:
-            out[b0:b1, start : start + len(g)] = done[k]
+            out[b0:b1, g[0] : g[-1] + 1] = done[k]
             k += 1
-        start += len(g)
     return out
 
 
@@ -320,10 +335,12 @@ def estimated_steps(system: System, speeds, angle: float, rate=None) -> np.ndarr
     The error of an order-p method over S steps of an interval spanning
     angle * rate radians of the fastest motion goes as S (angle rate / S)^(p+1),
     so S ~ (angle rate)^((p+1)/p); the factor is fitted to DOP8 at
-    :data:`TOLERANCE` on the shipped cases (within about 30 %).
+    :data:`TOLERANCE` with the embedded estimate (the compiled path) on the
+    shipped and benchmark cases: the steps settled on lie within a factor
+    0.6 to 2 of it, 1 at the median.
     """
     rate = (rates_per_radian(system, speeds) if rate is None else rate) + HARMONIC_RATE
-    return np.maximum(BASE_STEPS, STEPS_FACTOR * (angle * rate) ** (9 / 8))
+    return np.maximum(LEAST_STEPS, STEPS_FACTOR * (angle * rate) ** (9 / 8))
 
 
 def divisor_at_least(count: int, need: int) -> int:
@@ -363,6 +380,22 @@ def _estimate(run, sel, count, fine_phi, size, previous, ladder_, p):
     return np.maximum(sampled_est[left], sampled_est[right])
 
 
+#: Sum of the embedded estimates accepted, per unit of the tolerance asked: the
+#: estimate (:mod:`groundres.propagate`) overstates the actual error of the
+#: transition matrix 50 to 5000 times on the shipped and benchmark cases, so an
+#: estimate of 20 x the tolerance still keeps the actual error below it
+#: (tests/test_propagate.py checks this against a finer grid).
+ESTIMATE_SLACK = 20.0
+#: Order of the embedded estimate's sum in the step (error ~ steps^-ESTIMATE_ORDER).
+ESTIMATE_ORDER = 7
+
+
+def compiled_ladder(least: int = LEAST_STEPS):
+    """Step counts of the compiled path: c 2^k for c in 8, 10, 12, 14 (at most 25 % apart), from ``least``."""
+    out = sorted({c << k for c in (8, 10, 12, 14) for k in range(1, 18) if least <= c << k <= MAX_STEPS})
+    return np.array(out)
+
+
 def integrate(
     system,
     speeds,
@@ -373,14 +406,19 @@ def integrate(
     blocks_for=None,
     accept=None,
     rate=None,
+    least=None,
+    lag_damping=None,
+    compiled: bool = True,
 ):
     """Transition over [0, angle], step count adapted per speed.
 
-    Each speed is integrated with S steps and with fewer steps S' on the same
-    ladder; the Richardson estimate |Phi_S - Phi_S'| / ((S/S')^p - 1) of the
-    error of Phi_S decides. A speed that fails is integrated again with the
-    step count the estimate predicts (error ~ S^-p), and its last result
-    serves as the next comparison.
+    With the compiled kernel (DOP8), the embedded estimate of each speed's
+    error decides (:func:`transition_estimated`, :data:`ESTIMATE_SLACK`); a
+    speed that fails is integrated again with the step count the estimate
+    predicts (error ~ S^-7). With the NumPy reference each speed is
+    integrated with S steps and with fewer steps S' on the same ladder; the
+    Richardson estimate |Phi_S - Phi_S'| / ((S/S')^p - 1) of the error of
+    Phi_S decides, and the last result serves as the next comparison.
 
     Parameters
     ----------
@@ -394,31 +432,46 @@ def integrate(
         (blocks, k, 2n, 2n) over its parts.
     rate : ndarray, optional
         Fastest rate per radian at each speed, if known (:func:`rates_per_radian`).
+    least : ndarray, optional
+        Fewest steps at each speed (the samples its harmonics need).
+    lag_damping : ndarray, optional
+        Lag damping per speed on the working dampers (:func:`transition`).
+    compiled : bool
+        The compiled kernel with its embedded estimate (DOP8 only), or the NumPy reference.
 
     Returns
     -------
     phi : ndarray (n_s, 2n, 2n)
     steps : int ndarray (n_s,)
     """
+    speeds = np.asarray(speeds, dtype=float)
     blocks_for = blocks_for or (lambda count, sel: 1)
-    ladder_ = ladder(BASE_STEPS)
-    rate = rates_per_radian(system, speeds) if rate is None else rate
+    compiled = compiled and tableau is DOP8
+    ladder_ = compiled_ladder() if compiled else ladder(BASE_STEPS)
+    rate = rates_per_radian(system, speeds, lag_damping=lag_damping) if rate is None else rate
     need = estimated_steps(system, speeds, angle, rate)
     if need.max() > MAX_STEPS:  # refused before any work: the ladder would climb to its top in vain
         i = int(np.argmax(need))
         raise SpeedRangeError(
             float(speeds[i]), f"needs about {need[i]:.2g} steps per period (at most {MAX_STEPS} are taken)"
         )
-    guess = angle * (rate + HARMONIC_RATE) / scale
+    guess = (need if compiled else angle * (rate + HARMONIC_RATE)) / scale
+    if least is not None:
+        guess = np.maximum(guess, least)
     steps = ladder_[np.minimum(np.searchsorted(ladder_, guess), len(ladder_) - 1)]
     n2 = 2 * system.size
-    p = tableau.order
+    p = ESTIMATE_ORDER if compiled else tableau.order
+    bound = tolerance * (ESTIMATE_SLACK if compiled else 1.0)
     phi = np.empty((len(speeds), n2, n2))
-    previous = {}  # speed index -> (steps, phi) of its last rejected run
+    previous = {}  # speed index -> (steps, phi) of its last rejected run (Richardson)
     pending = np.arange(len(speeds))
+    damping = None if lag_damping is None else np.broadcast_to(np.asarray(lag_damping, float), speeds.shape)
 
     def run(sel, count, blocks):
-        return transition(system, speeds[sel], angle, int(count), blocks, tableau)
+        c = None if damping is None else damping[sel]
+        if compiled:
+            return transition_estimated(system, speeds[sel], angle, int(count), blocks, c)
+        return transition(system, speeds[sel], angle, int(count), blocks, tableau, c, compiled=False), None
 
     for attempt in range(10):
         if not len(pending):
@@ -428,23 +481,26 @@ def integrate(
             sel = pending[steps[pending] == count]
             # a step count too small for the explicit method blows up: caught below
             with np.errstate(over="ignore", invalid="ignore"):
-                parts = run(sel, count, blocks_for(int(count), sel))
+                parts, estimate = run(sel, count, blocks_for(int(count), sel))
                 fine_phi = ordered_product(parts)
-                size = np.maximum(np.abs(fine_phi).max((-1, -2)), 1.0)
-                estimate = _estimate(run, sel, count, fine_phi, size, previous, ladder_, p)
+                if estimate is None:
+                    size = np.maximum(np.abs(fine_phi).max((-1, -2)), 1.0)
+                    estimate = _estimate(
+                        lambda i, c, b: run(i, c, b)[0], sel, count, fine_phi, size, previous, ladder_, p
+                    )
             phi[sel] = fine_phi
             done = []
             pos = np.searchsorted(ladder_, count)
             for j, i in enumerate(sel):
                 finite = bool(np.isfinite(estimate[j]) and np.isfinite(fine_phi[j]).all())
                 if finite:
-                    want = count * (estimate[j] / tolerance) ** (1 / p) * 1.1
+                    want = count * (estimate[j] / bound) ** (1 / p) * 1.1
                     more = ladder_[min(np.searchsorted(ladder_, want), len(ladder_) - 1)]
                 else:  # the explicit method went unstable: many more steps
                     more = ladder_[min(pos + 3, len(ladder_) - 1)]
                     if more == count or attempt == 9:
                         raise SpeedRangeError(float(speeds[i]), f"needs more than {count} steps per period")
-                if (not finite or estimate[j] > tolerance) and more > count and attempt < 9:
+                if (not finite or estimate[j] > bound) and more > count and attempt < 9:
                     steps[i] = more
                     previous[i] = (count, fine_phi[j])
                     retry.append(i)

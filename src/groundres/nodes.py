@@ -1,0 +1,189 @@
+"""The azimuth-domain coefficient matrices at any azimuth (node matrices) and on fixed grids.
+
+The blade-coordinate equations M(psi) q'' + C(psi) q' + K(psi) q = 0, in the
+azimuth psi = Omega t, read q'' = (F_a + F_b / Omega + F_c / Omega^2) [q; q']
+with ' = d/dpsi, because the mass matrix does not depend on Omega, damping is
+C0 + Omega C1 and stiffness K0 + Omega K1 + Omega^2 K2:
+
+    F_a = -M^-1 [K2, C1],   F_b = -M^-1 [K1, C0],   F_c = -M^-1 [K0, 0],
+
+and, for a lag damping c set on the working dampers (C0 + c dC/dc),
+F_d = -M^-1 [0, dC/dc] with coefficient c / Omega.
+
+Every coefficient is a trigonometric polynomial of degree two in the azimuth,
+so the matrices are fitted exactly from five azimuths (at three speeds, which
+separate the powers of Omega). The blades' own block of the mass matrix
+(lag and flap of each blade, which meet only through the body) does not
+depend on the azimuth: M^-1 is applied through the Schur complement on the
+body's few coordinates, so a node costs a few products with the
+(precomputed) blade block's inverse applied to the harmonics instead of a
+dense solve. Where the blade block does vary (no such model today), the
+dense solve is used.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .system import System
+
+#: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
+GRID_CACHE_SIZE = 4_000_000
+
+
+def _harmonic_basis(psi, degree: int = 2):
+    """(1, cos psi, sin psi, ..., cos d psi, sin d psi) along a new last axis."""
+    terms = [np.ones_like(psi)]
+    for d in range(1, degree + 1):
+        terms += [np.cos(d * psi), np.sin(d * psi)]
+    return np.stack(terms, -1)
+
+
+class _Harmonics:
+    """The harmonics of M and of the right-hand sides [K2, C1, K1, C0, K0 (, dC/dc)] of one system."""
+
+    def __init__(self, system: System):
+        theta = 2 * np.pi * np.arange(5) / 5
+        probe = np.array([0.0, 1.0, 2.0])
+        m, c, k = system.matrices(probe, theta[:, None])  # (5 azimuths, 3 speeds, n, n)
+        c0, c1 = c[:, 0], c[:, 1] - c[:, 0]
+        k0 = k[:, 0]
+        k2 = (k[:, 2] - 2 * k[:, 1] + k0) / 2
+        k1 = k[:, 1] - k0 - k2
+        blocks = [k2, c1, k1, c0, k0]
+        if system.damping_direction is not None:
+            blocks.append(np.broadcast_to(system.damping_direction, k0.shape))
+        fit = np.linalg.inv(_harmonic_basis(theta))
+        self.n = n = m.shape[-1]
+        self.mass = np.einsum("hj,jab->hab", fit, m[:, 0])  # (5, n, n)
+        self.right = np.einsum("hj,jab->hab", fit, np.concatenate(blocks, -1))  # (5, n, W)
+        nb = self.nb = system.n_body
+        blade = self.mass[:, nb:, nb:]
+        scale = np.abs(blade[0]).max() if n > nb else 0.0
+        self.schur = n > nb and bool(np.abs(blade[1:]).max() <= 1e-13 * scale)
+        if self.schur:
+            # G = Mll^-1 R_l and H = Mll^-1 M_lb (degree 2), and the Schur complement's
+            # S = M_bb - M_bl H and right-hand side E = R_b - M_bl G (degree 4, fitted at nine azimuths)
+            inv = np.linalg.inv(blade[0])
+            self.g = np.einsum("ab,hbw->haw", inv, self.right[:, nb:])
+            self.h = np.einsum("ab,hbw->haw", inv, self.mass[:, nb:, :nb])
+            theta9 = 2 * np.pi * np.arange(9) / 9
+            at9 = _harmonic_basis(theta9)
+            mbl = np.einsum("th,hab->tab", at9, self.mass[:, :nb, nb:])
+            s9 = np.einsum("th,hab->tab", at9, self.mass[:, :nb, :nb]) - mbl @ np.einsum(
+                "th,hab->tab", at9, self.h
+            )
+            e9 = np.einsum("th,hab->tab", at9, self.right[:, :nb]) - mbl @ np.einsum(
+                "th,hab->tab", at9, self.g
+            )
+            fit9 = np.linalg.inv(_harmonic_basis(theta9, 4))
+            self.s = np.einsum("ht,tab->hab", fit9, s9)
+            self.e = np.einsum("ht,tab->hab", fit9, e9)
+
+    def solve(self, psi) -> np.ndarray:
+        """M(psi)^-1 [K2, C1, K1, C0, K0 (, dC/dc)](psi): (..., n, W)."""
+        psi = np.asarray(psi, dtype=float)
+        basis = _harmonic_basis(psi).reshape(-1, 5)
+
+        def at(coeff, b=basis):  # a trigonometric polynomial at every azimuth: one matrix product
+            return (b @ coeff.reshape(len(coeff), -1)).reshape(psi.shape + coeff.shape[1:])
+
+        if not self.schur:
+            return np.linalg.solve(at(self.mass), at(self.right))
+        nb = self.nb
+        g = at(self.g)  # (..., nl, W)
+        if nb == 0:
+            return g
+        basis4 = _harmonic_basis(psi, 4).reshape(-1, 9)
+        xb = np.linalg.solve(at(self.s, basis4), at(self.e, basis4))  # (..., nb, W)
+        h = at(self.h)  # (..., nl, nb)
+        for j in range(nb):  # g - h @ xb, as nb rank-one updates (nb is small)
+            g -= h[..., :, j, None] * xb[..., None, j, :]
+        return np.concatenate([xb, g], -2)
+
+
+def _harmonics(system: System) -> _Harmonics:
+    """The system's harmonics, fitted once and kept on it."""
+    if "node_harmonics" not in system.grid_cache:
+        system.grid_cache["node_harmonics"] = _Harmonics(system)
+    return system.grid_cache["node_harmonics"]
+
+
+#: Which half of [q; q'] each block of :func:`node_blocks` multiplies (0: q, 1: q').
+HALVES = (0, 1, 0, 1, 0, 1)
+
+
+def node_blocks(system: System, psi, damping: bool = False) -> np.ndarray:
+    """-M^-1 [K2, C1, K1, C0, K0 (, dC/dc)] at azimuths ``psi`` (any shape): (..., n, 5n or 6n).
+
+    The node matrices in compact form: F = sum_b coef_b X_b placed on the
+    half :data:`HALVES` [b] of [q; q'] (:func:`node_coefficients`); dC/dc (with
+    ``damping``) needs a system from :meth:`groundres.system.System.lag_damping_split`.
+    """
+    x = -_harmonics(system).solve(psi)
+    return x if damping else x[..., : 5 * system.size]
+
+
+def expand(blocks: np.ndarray, coef: np.ndarray) -> np.ndarray:
+    """F = sum_b coef_b X_b on its half: blocks (..., n, B n), coef (n_s, B) -> (n_s, ..., n, 2n)."""
+    n = blocks.shape[-2]
+    out = np.zeros(coef.shape[:1] + blocks.shape[:-1] + (2 * n,))
+    shape = (len(coef),) + (1,) * blocks.ndim
+    for b in range(coef.shape[1]):
+        half = HALVES[b]
+        out[..., half * n : (half + 1) * n] += coef[:, b].reshape(shape) * blocks[..., b * n : (b + 1) * n]
+    return out
+
+
+def node_matrices(system: System, psi) -> tuple[np.ndarray, ...]:
+    """F_a, F_b, F_c at azimuths ``psi`` (any shape), each (..., n, 2n).
+
+    q'' = (F_a + F_b / Omega + F_c / Omega^2) [q; q'] with ' = d/dpsi.
+    """
+    return tuple(expand(node_blocks(system, psi), np.repeat(np.eye(3), 2, axis=1)[:, :5]))
+
+
+def grid_nodes(
+    system: System,
+    angle: float,
+    steps: int,
+    tableau,
+    first: int = 0,
+    last: int | None = None,
+    damping: bool = False,
+) -> np.ndarray:
+    """:func:`node_blocks` at the stage nodes of steps first..last of a fixed grid: (k, stages, n, W).
+
+    Grids up to GRID_CACHE_SIZE values are kept on the system (the most
+    recent ones, up to four times that in all) so that repeated analyses
+    reuse them; finer ones are evaluated as asked.
+    """
+    last = steps if last is None else last
+    h = angle / steps
+    n = system.size
+    size = steps * len(tableau.c) * n * n * (6 if damping else 5)
+    if size > GRID_CACHE_SIZE:
+        return node_blocks(system, (np.arange(first, last)[:, None] + tableau.c[None, :]) * h, damping)
+    cache = system.grid_cache
+    key = (angle, int(steps), id(tableau), damping)
+    if key in cache:
+        cache[key] = cache.pop(key)  # (the most recently used last)
+    else:
+        grids = [k for k in cache if isinstance(k, tuple)]
+        while grids and sum(cache[k].size for k in grids) + size > 4 * GRID_CACHE_SIZE:
+            del cache[grids.pop(0)]
+        cache[key] = node_blocks(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h, damping)
+    return cache[key][first:last]
+
+
+def node_coefficients(speeds, lag_damping=None) -> np.ndarray:
+    """Per-speed coefficients of the blocks of :func:`node_blocks`: (n_s, 5 or 6).
+
+    (1, 1, 1/Omega, 1/Omega, 1/Omega^2) and, with ``lag_damping`` (per speed,
+    in the system's units), c / Omega.
+    """
+    inv = 1.0 / np.asarray(speeds, dtype=float)
+    cols = [np.ones_like(inv), np.ones_like(inv), inv, inv, inv**2]
+    if lag_damping is not None:
+        cols.append(np.broadcast_to(lag_damping, inv.shape) * inv)
+    return np.stack(cols, 1)

@@ -1,0 +1,207 @@
+"""Compiled propagation of transition matrices: the fast path of :mod:`groundres.transition`.
+
+The azimuth-domain equations y' = A(psi) y with A = [0 I; F(psi)] are
+integrated for the transition matrix itself, one speed after another, with
+the twelve stages of the Dormand-Prince eighth-order method on a fixed grid
+of nodes. F at a node is a combination of a few blocks with per-speed
+coefficients (1, 1/Omega, 1/Omega^2 for the inertia, damping-and-Coriolis
+and spring terms; c/Omega for a lag damping c set per speed,
+:mod:`groundres.nodes`), so one grid of nodes serves every speed and every
+lag damping. Each stage costs one
+product of an n x 2n block with a 2n x 2n matrix; nothing is formed twice.
+
+Error control comes from the method's embedded estimators (the fifth- and
+third-order solutions of DOP853, combined as by Hairer, Norsett and Wanner
+1993, "Solving Ordinary Differential Equations I", section II.10): the
+estimate of each step's local error, relative to max(1, |Phi|), is summed
+over the interval. No second integration is made.
+
+NumPy's per-call overhead dominates for matrices of 10-40 states, so the
+loops are compiled with numba, released from the GIL and run over batches of
+speeds on groundres' thread pool (:mod:`groundres.parallel`). Compiled code is
+cached by numba in ``$XDG_CACHE_HOME/groundres/numba`` (``~/.cache`` by
+default) only where that folder and its parents belong to the user (or root)
+and no one else may write there; elsewhere it is compiled in memory for each
+process. :func:`groundres.transition.transition` with ``compiled=False`` is the
+NumPy reference, tested against this path.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import numpy as np
+
+from . import _dop853
+from .nodes import HALVES
+from .parallel import CORES, map_threads
+
+#: Weights of the embedded fifth- and third-order error estimators of DOP853
+#: (the difference of the eighth-order weights and theirs), on the twelve stages.
+E5 = np.array(_dop853.E5)
+E3 = np.array(_dop853.E3)
+
+
+def cache_folder() -> str | None:
+    """The folder numba caches groundres' compiled code in, or None where it would be unsafe.
+
+    Safe: the folder and every parent up to the cache root are owned by this
+    user or root and writable by no one else (so that no other account can
+    plant code that this process would load).
+    """
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    if not os.path.isabs(base):
+        return None
+    path = os.path.join(base, "groundres", "numba")
+    try:
+        os.makedirs(path, mode=0o700, exist_ok=True)
+        uid = os.getuid()
+        for folder in (path, os.path.dirname(path), base):
+            info = os.stat(folder)
+            if info.st_uid not in (uid, 0) or info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+                return None
+    except OSError:
+        return None
+    return path
+
+
+def _propagate(nodes, coef, halves, h, a, b, e5, e3, out, err):  # pragma: no cover (compiled)
+    """Transition matrices over equal parts of the interval, for each speed, and error estimates.
+
+    nodes : (steps, stages, n, B n) blocks X_b (:func:`groundres.nodes.node_blocks`);
+    coef : (n_s, B); halves : (B,) the half of [q; q'] block b multiplies;
+    out : (n_s, parts, m, m) written; err : (n_s,) written: the sum over the
+    steps of the embedded estimate of each step's error, relative to
+    max(1, |Phi|).
+    """
+    steps, stages, n, width = nodes.shape
+    m = 2 * n
+    n_b = width // n
+    n_s, parts = out.shape[0], out.shape[1]
+    per = steps // parts
+    k = np.empty((stages, m, m))
+    y = np.empty((m, m))
+    f = np.empty((n, m))
+    phi = np.empty((m, m))
+    for s in range(n_s):
+        total = 0.0
+        for part in range(parts):
+            phi[:, :] = 0.0
+            for i in range(m):
+                phi[i, i] = 1.0
+            for t in range(part * per, (part + 1) * per):
+                size = 1.0
+                for r in range(m):
+                    for c in range(m):
+                        size = max(size, abs(phi[r, c]))
+                for i in range(stages):
+                    f[:, :] = 0.0
+                    for blk in range(n_b):
+                        w = coef[s, blk]
+                        if w != 0.0:
+                            col = halves[blk] * n
+                            for r in range(n):
+                                for c in range(n):
+                                    f[r, col + c] += w * nodes[t, i, r, blk * n + c]
+                    y[:, :] = phi
+                    for j in range(i):
+                        w = h * a[i, j]
+                        if w != 0.0:
+                            for r in range(m):
+                                for c in range(m):
+                                    y[r, c] += w * k[j, r, c]
+                    for r in range(n):
+                        for c in range(m):
+                            k[i, r, c] = y[n + r, c]
+                            k[i, n + r, c] = 0.0
+                        for q in range(m):
+                            fq = f[r, q]
+                            if fq != 0.0:
+                                for c in range(m):
+                                    k[i, n + r, c] += fq * y[q, c]
+                big5 = 0.0
+                big3 = 0.0
+                for r in range(m):
+                    for c in range(m):
+                        d5 = 0.0
+                        d3 = 0.0
+                        step = 0.0
+                        for i in range(stages):
+                            d5 += e5[i] * k[i, r, c]
+                            d3 += e3[i] * k[i, r, c]
+                            step += b[i] * k[i, r, c]
+                        phi[r, c] += h * step
+                        big5 = max(big5, abs(d5))
+                        big3 = max(big3, abs(d3))
+                big5 *= h / size
+                big3 *= h / size
+                if big5 > 0.0:
+                    total += big5 * big5 / np.sqrt(big5 * big5 + 0.01 * big3 * big3)
+            out[s, part, :, :] = phi
+        err[s] = total
+
+
+_KERNEL = None
+
+
+def _kernel():
+    """The compiled kernel (compiled, or loaded from numba's cache, on first use)."""
+    global _KERNEL
+    if _KERNEL is None:
+        import numba
+        from numba.core import config
+
+        folder = cache_folder()
+        previous = config.CACHE_DIR
+        try:
+            # numba places a function's cache when it is decorated: ours only, in a safe folder
+            if folder is not None:
+                config.CACHE_DIR = folder
+            _KERNEL = numba.njit(nogil=True, cache=folder is not None)(_propagate)
+        finally:
+            config.CACHE_DIR = previous
+    return _KERNEL
+
+
+def propagate(nodes, coef, h: float, tableau, parts: int = 1):
+    """Transition matrices over ``parts`` equal parts of a fixed grid, and their error estimates.
+
+    Parameters
+    ----------
+    nodes : ndarray (steps, stages, n, B n)
+        The blocks of the node matrices at the stage nodes of every step
+        (:func:`groundres.nodes.node_blocks`).
+    coef : ndarray (n_s, B)
+        Their coefficients at each speed (:func:`groundres.nodes.node_coefficients`).
+    h : float
+        Step [rad].
+    tableau : Tableau
+        :data:`groundres.transition.DOP8` (the estimators are DOP853's).
+    parts : int
+        Divides the step count.
+
+    Returns
+    -------
+    out : ndarray (parts, n_s, 2n, 2n)
+        Transition matrix of y = [q; dq/dpsi] over each part.
+    error : ndarray (n_s,)
+        Sum of the steps' estimated errors, relative to max(1, |Phi|).
+    """
+    nodes = np.ascontiguousarray(nodes, dtype=float)
+    coef = np.ascontiguousarray(coef, dtype=float)
+    n_s, m = coef.shape[0], 2 * nodes.shape[-2]
+    halves = np.array(HALVES[: coef.shape[1]], dtype=np.int64)
+    out = np.empty((n_s, parts, m, m))
+    err = np.empty(n_s)
+    kernel = _kernel()
+    a, b = np.ascontiguousarray(tableau.a), np.ascontiguousarray(tableau.b)
+    width = max(1, -(-n_s // CORES))
+    chunks = [(i, min(i + width, n_s)) for i in range(0, n_s, width)]
+
+    def task(chunk):
+        i0, i1 = chunk
+        kernel(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, out[i0:i1], err[i0:i1])
+
+    map_threads(task, chunks)
+    return np.swapaxes(out, 0, 1), err

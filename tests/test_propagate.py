@@ -1,0 +1,108 @@
+"""The compiled transition kernel against the NumPy reference, its embedded error
+control against finer grids (tests/test_floquet.py checks the multipliers
+against a tight SciPy integration), the node matrices
+by the Schur complement against a dense solve, and the lag damping set per
+speed against a system rebuilt with it."""
+
+import os
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from groundres import floquet, load_case, nodes, propagate, transition
+from groundres.system import System
+
+SHIPPED = sorted(
+    p.name[:-5] for p in (resources.files("groundres") / "cases").iterdir() if p.name.endswith(".toml")
+)
+
+
+def shipped_system(name):
+    case = load_case(name)
+    return System(case.rotor, case.body), case.sweep.speeds
+
+
+def relative(a, b):
+    """Largest entry difference relative to max(1, |b|), per matrix."""
+    return np.abs(a - b).max((-1, -2)) / np.maximum(1.0, np.abs(b).max((-1, -2)))
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_compiled_and_numpy_kernels_agree_on_every_shipped_case(name):
+    """Same grid, same method: the two paths differ by round-off only. 1e-12 is
+    about 50 eps per entry after some hundred steps of a 12-stage method."""
+    system, speeds = shipped_system(name)
+    angle = floquet.symmetry(system).angle
+    w = speeds[speeds > 0][np.linspace(0, (speeds > 0).sum() - 1, 5).astype(int)]
+    for steps, parts in ((48, 1), (96, 4)):
+        fast = transition.transition(system, w, angle, steps, parts)
+        slow = transition.transition(system, w, angle, steps, parts, compiled=False)
+        assert relative(fast, slow).max() < 1e-12
+
+
+@pytest.mark.parametrize("name", ["hammond-1974-one-damper", "two-bladed", "soft-inplane-pitch-roll"])
+def test_embedded_estimate_keeps_the_transition_matrix_within_the_tolerance(name):
+    """The step count the embedded estimate settles on gives the transition
+    matrix to TOLERANCE: checked against the same method on four times the steps."""
+    system, speeds = shipped_system(name)
+    angle = floquet.symmetry(system).angle
+    w = speeds[speeds > 0][np.linspace(0, (speeds > 0).sum() - 1, 7).astype(int)]
+    phi, steps = transition.integrate(system, w, angle)
+    for count in np.unique(steps):
+        sel = steps == count
+        fine = transition.ordered_product(transition.transition(system, w[sel], angle, int(4 * count)))
+        assert relative(phi[sel], fine).max() < transition.TOLERANCE
+
+
+@pytest.mark.parametrize("name", ["soft-inplane-pitch-roll", "hammond-1974-one-damper"])
+def test_node_matrices_by_the_schur_complement_equal_a_dense_solve(name):
+    system, _ = shipped_system(name)
+    psi = np.linspace(0, 2 * np.pi, 37)
+    fit = nodes._Harmonics(system)
+    assert fit.schur
+    fast = fit.solve(psi)
+    fit.schur = False
+    dense = fit.solve(psi)
+    assert np.abs(fast - dense).max() < 1e-12 * np.abs(dense).max()
+
+
+def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
+    """The equations are affine in the lag damping: one split system with the
+    damping as a per-speed coefficient gives the transition matrices of systems
+    rebuilt with each damping (one failed damper stays failed)."""
+    system, speeds = shipped_system("hammond-1974-one-damper")
+    split = system.lag_damping_split()
+    angle = 2 * np.pi
+    w = np.array([12.0, 20.0, 30.0])
+    c = np.array([0.0, 2500.0, 40000.0])
+    both = transition.transition(split, w, angle, 64)[0]
+    each = transition.transition(split, w, angle, 64, lag_damping=c)[0]
+    for i in range(3):
+        rebuilt = transition.transition(system.with_lag_damping(c[i]), w[i : i + 1], angle, 64)[0]
+        assert relative(each[i : i + 1], rebuilt).max() < 1e-12
+    assert relative(both[:1], each[:1]).max() < 1e-12  # (c = 0: the split system itself)
+    assert system.with_lag_damping(c[1]).rotor.blades[0].lag_damping == 0.0  # (blade 1 failed)
+    sym = floquet.symmetry(system)  # (the full period: c = 0 alone would repeat every quarter turn)
+    ours = floquet.solve(split, w, harmonics=0, lag_damping=c, sym=sym)
+    for i in range(3):
+        alone = floquet.solve(system.with_lag_damping(c[i]), w[i : i + 1], harmonics=0, sym=sym)
+        np.testing.assert_allclose(
+            np.sort_complex(ours.multiplier[i]), np.sort_complex(alone.multiplier[0]), atol=1e-9
+        )
+
+
+def test_compiled_code_is_cached_only_where_no_one_else_can_write(tmp_path, monkeypatch):
+    """numba's cache holds machine code: it is used only in a folder that this
+    user (or root) owns and no one else may write, up to the cache root."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    os.chmod(tmp_path, 0o755)
+    assert propagate.cache_folder() == str(tmp_path / "groundres" / "numba")
+    assert (os.stat(tmp_path / "groundres" / "numba").st_mode & 0o777) == 0o700
+    os.chmod(tmp_path / "groundres", 0o777)
+    assert propagate.cache_folder() is None
+    os.chmod(tmp_path / "groundres", 0o755)
+    os.chmod(tmp_path, 0o775)
+    assert propagate.cache_folder() is None
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/path")
+    assert propagate.cache_folder() is None
