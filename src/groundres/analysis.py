@@ -130,10 +130,12 @@ class _Solver:
         mats = self._fitted(speeds)
         return modal.block_eigenvalues(*mats, self._blocks(mats), split=True)
 
-    def growth(self, speeds):
-        """Largest real part of all roots [1/s] at each speed (roots only, batched)."""
+    def growth(self, speeds, lag_damping=None, neutral=True):
+        """Largest real part of all roots [1/s] at each speed (roots only, batched);
+        without ``neutral``, of the roots that are not neutral
+        (:func:`groundres.stability.largest_real_part`)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-        return np.max([r.real.max(-1) for r in self._scan_roots(speeds)], axis=0)
+        return stability.largest_real_part(np.concatenate(self._scan_roots(speeds), -1).real, speeds, neutral)
 
     def closeness(self, speeds):
         """Nearest approach of two roots of one block (:func:`groundres.modal.closest_pair`)."""
@@ -273,12 +275,16 @@ class _Floquet(_Solver):
     def roots(self, speeds):
         return self._solve(speeds, harmonics=0).exponent
 
-    def growth(self, speeds, lag_damping=None):
+    def growth(self, speeds, lag_damping=None, neutral=True):
         """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`).
 
-        ``lag_damping`` (per speed, in the equations' unit) on the working dampers, if given.
+        ``lag_damping`` (per speed, in the equations' unit) on the working dampers, if
+        given; without ``neutral``, of the roots that are not neutral
+        (:func:`groundres.stability.largest_real_part`).
         """
-        return self._solve(speeds, lag_damping, harmonics=0, lift=False).exponent.real.max(-1)
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        real = self._solve(speeds, lag_damping, harmonics=0, lift=False).exponent.real
+        return stability.largest_real_part(real, speeds, neutral)
 
     solved = None
 
@@ -398,7 +404,8 @@ def analyze(
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
     if solver.kind == "floquet":
         low = damping_search.lowest_search_speed(deutsch)
-        search = damping_search.search_grid(speeds, probe, True, low) if lag_damping_search else None
+        windows = damping_search.search_windows(deutsch)  # (and the ranges, which the sweep will find)
+        search = damping_search.search_grid(speeds, probe, True, low, windows) if lag_damping_search else None
         damping_search.check_work(
             solver, speeds, probe, search, unit_of_speed, time_invariant_form(case) is not None
         )

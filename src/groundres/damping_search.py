@@ -2,11 +2,14 @@
 
 The search scans the sweep and an internal grid (:mod:`groundres.scan`),
 dense near the tuning speeds and spread from half the lowest body frequency
-to the stop, and bisects on the lag damping set on every working damper
-(:func:`minimum_lag_damping`). It starts from the installed damper and the
-sweep's verdict there, so that the two agree. A Floquet search is costly:
-its work is estimated with the sweep's before anything runs
-(:func:`check_work`).
+to the stop (a periodic search only near the tuning speeds and the unstable
+ranges, :func:`search_windows`), and bisects on the lag damping set on every
+working damper (:func:`minimum_lag_damping`). A periodic search solves every
+trial damping on one system without the working dampers, the damping a
+per-speed coefficient (:meth:`groundres.system.System.lag_damping_split`).
+It starts from the installed damper and the sweep's verdict there, so that
+the two agree. A Floquet search is costly: its work is estimated with the
+sweep's before anything runs (:func:`check_work`).
 """
 
 from __future__ import annotations
@@ -57,16 +60,53 @@ def lowest_search_speed(deutsch):
 SEARCH_FILL = {False: 200, True: 12}
 
 
-def search_grid(speeds, probe, periodic, low=0.0):
-    """Speeds the damping search scans: the internal grid and the sweep's (at most 60 of
-    them for a periodic analysis, whose every speed is an integration), from ``low`` up,
-    with :data:`SEARCH_FILL` speeds spread geometrically from ``low`` (or the first
-    turning speed) to the stop."""
+#: Geometric speeds added in each window of a periodic search (:func:`search_windows`).
+WINDOW_FILL = 6
+
+
+def search_windows(deutsch, ranges=()) -> list[tuple[float, float]]:
+    """Where a periodic search looks [rad/s]: near each tuning speed Omega_t, from the
+    body frequency (or Omega_t / CLUSTER_WIDTH if lower) to CLUSTER_WIDTH Omega_t,
+    and over the sweep's unstable ranges. Ground resonance lives there: strong lag
+    damping moves the worst speed from the tuning speed down towards the body
+    frequency, and weaker damping widens the ranges about their peaks."""
+    out = [
+        (
+            min(e.tuning_speed / scan.CLUSTER_WIDTH, 0.9 * e.body_frequency),
+            e.tuning_speed * scan.CLUSTER_WIDTH,
+        )
+        for e in deutsch
+        if e.tuning_speed is not None and e.body_frequency
+    ]
+    return out + [(float(a), float(b)) for a, b in ranges]
+
+
+def search_grid(speeds, probe, periodic, low=0.0, windows=()):
+    """Speeds the damping search scans, from ``low`` up.
+
+    Eigen-analysis: the internal grid and the sweep's, with :data:`SEARCH_FILL`
+    speeds spread geometrically from ``low`` (or the first turning speed) to
+    the stop. Periodic (every speed is an integration): only the speeds that
+    matter, those of the sweep (at most 60) and of the internal grid inside the
+    ``windows`` (:func:`search_windows`) with :data:`WINDOW_FILL` more in each;
+    without windows inside the sweep, the eigen-analysis' choice with
+    :data:`SEARCH_FILL` [True] speeds.
+    """
     if periodic and len(speeds) > 60:
         speeds = speeds[np.unique(np.linspace(0, len(speeds) - 1, 60).round().astype(int))]
     grid = np.union1d(speeds, probe)
     moving = grid[grid > 0]
-    if len(moving):
+    inside = []
+    if periodic and len(moving):
+        top, floor = moving.max(), max(low, 0.5 * moving.min())
+        for a, b in windows:
+            a, b = max(a, floor), min(b, top)
+            if a < b:
+                inside.append(grid[(grid >= a) & (grid <= b)])
+                inside.append(np.geomspace(a, b, WINDOW_FILL))
+    if inside:
+        grid = np.unique(np.concatenate(inside))
+    elif len(moving):
         # (a periodic fill stays above half the first turning speed, as its grid does)
         bottom = max(low, 0.5 * moving.min()) if periodic else (low if low > 0 else moving.min())
         if bottom < moving.max():
@@ -136,11 +176,12 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
             trials.clear()
             trials[lag_damping] = solver.with_lag_damping(lag_damping, in_unit=True)
-        return trials[lag_damping].growth(w) - stability.growth_threshold(w)
+        # (neutral roots never grow: left out, they cannot hide the peak that decides)
+        return trials[lag_damping].growth(w, neutral=False) - stability.growth_threshold(w)
 
     value = minimum_lag_damping(
         excess,
-        search_grid(speeds, probe, periodic, low),
+        search_grid(speeds, probe, periodic, low, search_windows(deutsch, assessed.unstable_ranges)),
         guess,
         cap=cap,
         rtol=RTOL[solver.kind],

@@ -76,32 +76,53 @@ def local_maxima(values, count: int) -> np.ndarray:
 
 
 def zoom_max(fun, lo: float, hi: float, xtol: float, points: int = 9, rounds: int = 40):
-    """Largest value of ``fun`` on [lo, hi] and where: (value, speed).
+    """Largest value of ``fun`` on [lo, hi] and where: (value, speed) (:func:`zoom_many`)."""
+    return zoom_many(fun, [(lo, hi)], xtol, points, rounds)[0]
 
-    Evaluates ``points`` speeds, keeps the neighbourhood of the best and
-    repeats (the bracket shrinks by (points - 1) / 2 each round) until it is
-    narrower than ``xtol`` relative to ``hi``; then a parabola through the
-    best three gives the peak, kept if it is higher.
+
+def zoom_many(
+    fun, spans, xtol: float, points: int = 9, rounds: int = 40, flat=None
+) -> list[tuple[float, float]]:
+    """Largest value of ``fun`` on each bracket [lo, hi] of ``spans`` and where: [(value, speed)].
+
+    In each bracket: evaluates ``points`` speeds, keeps the neighbourhood of
+    the best and repeats (the bracket shrinks by (points - 1) / 2 each round)
+    until it is narrower than ``xtol`` relative to ``hi``; then a parabola
+    through the best three gives the peak, kept if it is higher. The
+    brackets advance together: one call of ``fun`` per round for all. A list
+    ``flat`` is given whether each bracket's first samples were all equal
+    (to 1e-9 of their size: a root that does not change with speed).
     """
-    best_v, best_w = -np.inf, lo
+    state = [[float(lo), float(hi), -np.inf, float(lo), True] for lo, hi in spans]  # lo, hi, best, at, open
+    vertex = []  # (bracket, speed) of the final parabolas
     for _ in range(rounds):
-        w = np.linspace(lo, hi, points)
-        v = np.asarray(fun(w), dtype=float)
-        i = int(np.argmax(v))
-        if v[i] > best_v:
-            best_v, best_w = float(v[i]), float(w[i])
-        step = w[1] - w[0]
-        if step <= xtol * max(abs(hi), 1e-300):
-            if 0 < i < points - 1:
-                denom = v[i - 1] - 2 * v[i] + v[i + 1]
-                if denom < 0:
-                    x = w[i] + 0.5 * step * (v[i - 1] - v[i + 1]) / denom
-                    vx = float(np.asarray(fun(np.array([x])), dtype=float)[0])
-                    if vx > best_v:
-                        best_v, best_w = vx, float(x)
+        active = [st for st in state if st[4]]
+        if not active:
             break
-        lo, hi = max(lo, best_w - step), min(hi, best_w + step)
-    return best_v, best_w
+        w = np.concatenate([np.linspace(st[0], st[1], points) for st in active])
+        v = np.asarray(fun(w), dtype=float).reshape(len(active), points)
+        w = w.reshape(len(active), points)
+        if flat is not None and not flat:
+            flat.extend(bool(np.ptp(vk) <= 1e-9 * np.abs(vk).max()) for vk in v)
+        for st, wk, vk in zip(active, w, v):
+            i = int(np.argmax(vk))
+            if vk[i] > st[2]:
+                st[2], st[3] = float(vk[i]), float(wk[i])
+            step = wk[1] - wk[0]
+            if step <= xtol * max(abs(st[1]), 1e-300):
+                st[4] = False
+                if 0 < i < points - 1:
+                    denom = vk[i - 1] - 2 * vk[i] + vk[i + 1]
+                    if denom < 0:
+                        vertex.append((st, wk[i] + 0.5 * step * (vk[i - 1] - vk[i + 1]) / denom))
+                continue
+            st[0], st[1] = max(st[0], st[3] - step), min(st[1], st[3] + step)
+    if vertex:
+        values = np.asarray(fun(np.array([x for _, x in vertex])), dtype=float)
+        for (st, x), vx in zip(vertex, values):
+            if vx > st[2]:
+                st[2], st[3] = float(vx), float(x)
+    return [(st[2], st[3]) for st in state]
 
 
 def crossing(fun, lo: float, hi: float) -> float:
@@ -137,37 +158,44 @@ class PeakWatch:
     def _around(self, w):
         i = int(np.clip(np.searchsorted(self.grid, w), 0, len(self.grid) - 1))
         lo, hi = bracket(self.grid, i)
-        return [min(lo, w), max(hi, w), w, None]
+        return [min(lo, w), max(hi, w), w, False]
 
-    def _refine(self, p, span, start):
-        """Peak in a watched span [lo, hi, last peak, gain] (the grid bracket it came
-        from: a peak that leaves it is found again by the next full scan); ``gain``
-        is what refining added to ``start``, the value at the last peak."""
-        top, at = zoom_max(lambda w: self.fun(p, w), span[0], span[1], self.xtol)
-        span[2], span[3] = at, max(top - start, 0.0)
-        return top, at
+    def _refine(self, p, spans):
+        """Peaks in watched spans [lo, hi, last peak, settled] (the grid brackets they
+        came from: a peak that leaves its bracket is found again by the next full
+        scan), refined together. A span is settled where refining cannot help: its
+        values did not change with speed (a root that does not depend on it), or
+        the largest lay on an end of the bracket (the peak left it, or another root
+        rose above it there); its last peak is then kept, where the mode that
+        peaked there is looked at again. Returns the refined values."""
+        flat = []
+        found = zoom_many(
+            lambda w: self.fun(p, w), [(span[0], span[1]) for span in spans], self.xtol, flat=flat
+        )
+        for span, is_flat, (_, at) in zip(spans, flat, found):
+            edge = min(at - span[0], span[1] - at) <= self.xtol * abs(span[1])
+            span[3] = is_flat or edge
+            if not span[3]:
+                span[2] = at
+        return [top for top, _ in found]
 
     def watched(self, p):
         """Largest value over the watched peaks (-inf if none).
 
         The last peaks are tried first, in one call: where one is still
-        positive the verdict needs no refinement; else the highest that is
-        not flat (whose refinement gained something before, or that was never
-        refined) is refined.
+        positive the verdict needs no refinement; else those not settled
+        (:meth:`_refine`) are refined together.
         """
         if not self.brackets:
             return -np.inf
         last = np.asarray(self.fun(p, np.array([span[2] for span in self.brackets])), float)
         if last.max() > 0:
             return float(last.max())
-        # (a flat peak, such as a neutral root's, gains nothing by refining)
-        live = [k for k, span in enumerate(self.brackets) if span[3] is None or span[3] > 1e-6 * abs(last[k])]
+        live = [k for k, span in enumerate(self.brackets) if not span[3]]
         if not live:
             return float(last.max())
-        k = max(live, key=lambda j: last[j])
-        top, _ = self._refine(p, self.brackets[k], last[k])
-        self.brackets.insert(0, self.brackets.pop(k))
-        return max(top, float(last.max()))
+        tops = self._refine(p, [self.brackets[k] for k in live])
+        return max(max(tops), float(last.max()))
 
     def full(self, p):
         """Largest value from a full scan; the scan's peaks are watched from now on.
@@ -180,9 +208,9 @@ class PeakWatch:
         best, gain, spans = float(values.max()), None, []
         for i in local_maxima(values, self.peaks):
             lo, hi = bracket(self.grid, i)
-            span = [lo, hi, self.grid[i], None]
+            span = [lo, hi, self.grid[i], False]
             if hi > lo and (gain is None or values[i] + 4 * gain > 0):
-                top, _ = self._refine(p, span, values[i])
+                (top,) = self._refine(p, [span])
                 best = max(best, top)
                 gain = max(gain or 0.0, top - values[i])
             if all(abs(span[2] - t[2]) > 4 * self.xtol * abs(t[2]) for t in spans):
