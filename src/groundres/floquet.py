@@ -233,19 +233,39 @@ def _periodic_samples(parts, starts, exponent, dt):
     return out
 
 
+def _sampled_displacements(upto, vectors, exponent, dt, n):
+    """Displacement rows of the periodic part at every part's start, from the transition
+    matrices up to each part's end (one batched product).
+
+    upto : (B, k, m, m) Phi from 0 to the end of each part; vectors : (k, m, m);
+    exponent : (k, m); dt : (k,) duration of one part [s]. Returns (B, k, n, m):
+    Phi(psi_b)[:n] v exp(-lambda b dt), Phi(psi_0) = I.
+    """
+    out = np.empty(upto.shape[:2] + (n, upto.shape[-1]), complex)
+    out[0] = vectors[:, :n]
+    if len(upto) > 1:  # (per speed, all samples' rows at once; real and imaginary parts apart)
+        b, k, m = len(upto) - 1, upto.shape[1], upto.shape[-1]
+        rows = np.swapaxes(upto[:-1, :, :n, :], 0, 1).reshape(k, b * n, m)
+        for part, values in ((out.real, vectors.real), (out.imag, vectors.imag)):
+            part[1:] = np.swapaxes((rows @ values).reshape(k, b, n, m), 0, 1)
+    steps = np.arange(len(upto))[:, None, None]
+    out *= np.exp(-exponent[None] * (steps * dt[None, :, None]))[:, :, None, :]
+    return out
+
+
 def _harmonics(system, sym, samples, weights, exponent, speeds, h):
     """Window of harmonics around each root's dominant one.
 
-    samples : (B, k, 2n, 2n) periodic part over the reduced period (state y);
+    samples : (B, k, n, 2n) displacements of the periodic part over the reduced period;
     weights : (k, n) kinetic weights of the multiblade coordinates.
     Returns (exponent shifted to the dominant harmonic (k, 2n), harmonics (k, n, 2h+1, 2n)).
     """
     n = system.size
-    parts, gk = [], np.eye(n)
-    q = samples[:, :, :n, :]
+    step = np.argmax(sym.g, axis=1)  # (g is a permutation: g @ q = q[step])
+    parts, order = [], np.arange(n)
     for _ in range(system.n_blades // sym.shift):
-        parts.append(gk @ q)
-        gk = sym.g @ gk
+        parts.append(samples[..., order, :])
+        order = order[step]
     full = np.concatenate(parts, axis=0)  # (K, k, n, 2n) over one revolution
     k_full = len(full)
     coeff = system.multiblade_spectrum(full)  # order o at index o mod K
@@ -359,7 +379,7 @@ def solve(
         need = np.flatnonzero(spread > LIFT_SPREAD) if lift or harmonics else np.array([], int)
         samples = None
         if harmonics:  # (speeds that need the lifted problem are redone below)
-            samples = _periodic_samples(parts, vec[None], lam, dt / len(parts))
+            samples = _sampled_displacements(parts, vec, lam, dt / len(parts), n)
         for j in need:
             k_parts = int(np.ceil(spread[j] / LIFT_STEP)) + 1
             while True:
@@ -380,7 +400,7 @@ def solve(
             lifted[idx[j]] = True
             if harmonics:
                 one = _periodic_samples(fine[:, None], at[:, None], lam[j][None], dt[j : j + 1] / n_parts)
-                samples[:, j] = one[:: n_parts // len(parts), 0]  # the batch's sample count
+                samples[:, j] = one[:: n_parts // len(parts), 0, :n]  # the batch's sample count
         multiplier[idx], vector[idx], steps[idx] = rho, vec, count
         key[idx] = _pairing_key(lam, dt)
         if harmonics:
@@ -406,6 +426,7 @@ def solve(
             rate[moving],
             least,
             None if damping is None else damping[moving],
+            cumulative=bool(harmonics),
         )
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key)

@@ -66,11 +66,12 @@ def cache_folder() -> str | None:
     return path
 
 
-def _propagate(nodes, coef, halves, h, a, b, e5, e3, out, err):  # pragma: no cover (compiled)
+def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # pragma: no cover (compiled)
     """Transition matrices over equal parts of the interval, for each speed, and error estimates.
 
     nodes : (steps, stages, n, B n) blocks X_b (:func:`groundres.nodes.node_blocks`);
     coef : (n_s, B); halves : (B,) the half of [q; q'] block b multiplies;
+    restart : each part from the identity (else from the start of the interval);
     out : (n_s, parts, m, m) written; err : (n_s,) written: the sum over the
     steps of the embedded estimate of each step's error, relative to
     max(1, |Phi|).
@@ -87,9 +88,10 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, out, err):  # pragma: no co
     for s in range(n_s):
         total = 0.0
         for part in range(parts):
-            phi[:, :] = 0.0
-            for i in range(m):
-                phi[i, i] = 1.0
+            if restart or part == 0:
+                phi[:, :] = 0.0
+                for i in range(m):
+                    phi[i, i] = 1.0
             for t in range(part * per, (part + 1) * per):
                 size = 1.0
                 for r in range(m):
@@ -164,7 +166,7 @@ def _kernel():
     return _KERNEL
 
 
-def propagate(nodes, coef, h: float, tableau, parts: int = 1):
+def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool = False):
     """Transition matrices over ``parts`` equal parts of a fixed grid, and their error estimates.
 
     Parameters
@@ -180,11 +182,14 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1):
         :data:`groundres.transition.DOP8` (the estimators are DOP853's).
     parts : int
         Divides the step count.
+    cumulative : bool
+        Transition matrices from the start of the grid to the end of each part
+        instead of over each part.
 
     Returns
     -------
     out : ndarray (parts, n_s, 2n, 2n)
-        Transition matrix of y = [q; dq/dpsi] over each part.
+        Transition matrix of y = [q; dq/dpsi] over each part (or up to its end).
     error : ndarray (n_s,)
         Sum of the steps' estimated errors, relative to max(1, |Phi|).
     """
@@ -201,7 +206,7 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1):
 
     def task(chunk):
         i0, i1 = chunk
-        kernel(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, out[i0:i1], err[i0:i1])
+        kernel(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, not cumulative, out[i0:i1], err[i0:i1])
 
     map_threads(task, chunks)
     return np.swapaxes(out, 0, 1), err

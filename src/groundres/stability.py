@@ -174,13 +174,10 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
         k = i + int(np.argmax(values[i : j + 1]))
         found.append([float(start), float(end), float(grid[k]), float(values[k])])
         i = j + 1
-    for i in scan.local_maxima(values, peaks):
-        if values[i] > 0 or grid[i] <= 0:
-            continue
-        lo, hi = scan.bracket(grid, i)
-        if hi <= lo:
-            continue
-        top, at = scan.zoom_max(excess, lo, hi, scan.PEAK_XTOL[kind])
+    spans = [scan.bracket(grid, i) for i in scan.local_maxima(values, peaks) if values[i] <= 0 < grid[i]]
+    spans = [(lo, hi) for lo, hi in spans if hi > lo]
+    # (refined together: one call of ``excess`` per round for all of them)
+    for (lo, hi), (top, at) in zip(spans, scan.zoom_many(excess, spans, scan.PEAK_XTOL[kind])):
         if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
             continue
         # a range narrower than the grid: its ends on either side of the peak

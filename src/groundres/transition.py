@@ -202,6 +202,7 @@ def transition(
     tableau=DOP8,
     lag_damping=None,
     compiled: bool = True,
+    cumulative: bool = False,
 ):
     """Azimuth-domain transition matrices over equal parts of [0, angle], for a batch of speeds.
 
@@ -223,16 +224,29 @@ def transition(
         Lag damping set on the working dampers at each speed [in the system's units].
     compiled : bool
         The compiled kernel (:mod:`groundres.propagate`, DOP8 only) or the NumPy reference.
+    cumulative : bool
+        Transition matrices from 0 to the end of each part instead of over each part.
 
     Returns
     -------
     ndarray (blocks, n_s, 2n, 2n)
         Transition matrix of y = [q; dq/dpsi] over each part; their ordered
-        product (:func:`ordered_product`) is the one over [0, angle].
+        product (:func:`ordered_product`) is the one over [0, angle] (with
+        ``cumulative``, the last one is).
     """
     if compiled and tableau is DOP8:
-        return transition_estimated(system, speeds, angle, steps, blocks, lag_damping)[0]
-    return _reference(system, speeds, angle, steps, blocks, tableau, lag_damping)
+        return transition_estimated(system, speeds, angle, steps, blocks, lag_damping, cumulative)[0]
+    parts = _reference(system, speeds, angle, steps, blocks, tableau, lag_damping)
+    return prefix_products(parts) if cumulative else parts
+
+
+def prefix_products(parts):
+    """Q_k ... Q_0 for every k: (K, ...) -> (K, ...)."""
+    out = np.empty_like(parts)
+    out[0] = parts[0]
+    for k in range(1, len(parts)):
+        out[k] = parts[k] @ out[k - 1]
+    return out
 
 
 def _pieces(system: System, steps: int, blocks: int, sets: int, stages: int):
@@ -250,8 +264,12 @@ def _pieces(system: System, steps: int, blocks: int, sets: int, stages: int):
     ]
 
 
-def transition_estimated(system: System, speeds, angle: float, steps: int, blocks: int = 1, lag_damping=None):
+def transition_estimated(
+    system: System, speeds, angle: float, steps: int, blocks: int = 1, lag_damping=None, cumulative=False
+):
     """:func:`transition` by the compiled kernel, with the embedded error estimate of each speed.
+
+    With ``cumulative``, the transition matrices from 0 to the end of each part.
 
     Returns
     -------
@@ -269,14 +287,16 @@ def transition_estimated(system: System, speeds, angle: float, steps: int, block
     m = 2 * system.size
     out = np.empty((blocks, len(speeds), m, m))
     error = np.zeros(len(speeds))
+    before = None  # (cumulative) the transition matrix up to the run's start
     for b0, b1, runs in _pieces(system, steps, blocks, coef.shape[1], len(DOP8.c)):
         acc = None
         for s0, s1 in runs:
             nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, damping)
-            got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1)
+            got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1, cumulative)
             error += err
             acc = got if acc is None else got @ acc
-        out[b0:b1] = acc
+        out[b0:b1] = acc if before is None or not cumulative else acc @ before
+        before = out[b1 - 1]
     return out, error
 
 
@@ -409,6 +429,7 @@ def integrate(
     least=None,
     lag_damping=None,
     compiled: bool = True,
+    cumulative: bool = False,
 ):
     """Transition over [0, angle], step count adapted per speed.
 
@@ -438,6 +459,8 @@ def integrate(
         Lag damping per speed on the working dampers (:func:`transition`).
     compiled : bool
         The compiled kernel with its embedded estimate (DOP8 only), or the NumPy reference.
+    cumulative : bool
+        ``parts`` given to ``accept`` run from 0 to the end of each part (:func:`transition`).
 
     Returns
     -------
@@ -470,8 +493,9 @@ def integrate(
     def run(sel, count, blocks):
         c = None if damping is None else damping[sel]
         if compiled:
-            return transition_estimated(system, speeds[sel], angle, int(count), blocks, c)
-        return transition(system, speeds[sel], angle, int(count), blocks, tableau, c, compiled=False), None
+            return transition_estimated(system, speeds[sel], angle, int(count), blocks, c, cumulative)
+        parts = transition(system, speeds[sel], angle, int(count), blocks, tableau, c, False, cumulative)
+        return parts, None
 
     for attempt in range(10):
         if not len(pending):
@@ -482,7 +506,7 @@ def integrate(
             # a step count too small for the explicit method blows up: caught below
             with np.errstate(over="ignore", invalid="ignore"):
                 parts, estimate = run(sel, count, blocks_for(int(count), sel))
-                fine_phi = ordered_product(parts)
+                fine_phi = parts[-1] if cumulative else ordered_product(parts)
                 if estimate is None:
                     size = np.maximum(np.abs(fine_phi).max((-1, -2)), 1.0)
                     estimate = _estimate(
