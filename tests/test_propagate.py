@@ -36,7 +36,7 @@ def test_compiled_and_numpy_kernels_agree_on_every_shipped_case(name):
     angle = floquet.symmetry(system).angle
     w = speeds[speeds > 0][np.linspace(0, (speeds > 0).sum() - 1, 5).astype(int)]
     for steps, parts in ((48, 1), (96, 4)):
-        fast = transition.transition(system, w, angle, steps, parts)
+        fast = transition.transition(system, w, angle, steps, parts, compiled=True)
         slow = transition.transition(system, w, angle, steps, parts, compiled=False)
         assert relative(fast, slow).max() < 1e-12
 
@@ -48,10 +48,12 @@ def test_embedded_estimate_keeps_the_transition_matrix_within_the_tolerance(name
     system, speeds = shipped_system(name)
     angle = floquet.symmetry(system).angle
     w = speeds[speeds > 0][np.linspace(0, (speeds > 0).sum() - 1, 7).astype(int)]
-    phi, steps = transition.integrate(system, w, angle)
+    phi, steps = transition.integrate(system, w, angle, compiled=True)
     for count in np.unique(steps):
         sel = steps == count
-        fine = transition.ordered_product(transition.transition(system, w[sel], angle, int(4 * count)))
+        fine = transition.ordered_product(
+            transition.transition(system, w[sel], angle, int(4 * count), compiled=True)
+        )
         assert relative(phi[sel], fine).max() < transition.TOLERANCE
 
 
@@ -77,9 +79,11 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
     w = np.array([12.0, 20.0, 30.0])
     c = np.array([0.0, 2500.0, 40000.0])
     both = transition.transition(split, w, angle, 64)[0]
-    each = transition.transition(split, w, angle, 64, lag_damping=c)[0]
+    each = transition.transition(split, w, angle, 64, lag_damping=c, compiled=True)[0]
     for i in range(3):
-        rebuilt = transition.transition(system.with_lag_damping(c[i]), w[i : i + 1], angle, 64)[0]
+        rebuilt = transition.transition(
+            system.with_lag_damping(c[i]), w[i : i + 1], angle, 64, compiled=False
+        )[0]
         assert relative(each[i : i + 1], rebuilt).max() < 1e-12
     assert relative(both[:1], each[:1]).max() < 1e-12  # (c = 0: the split system itself)
     assert system.with_lag_damping(c[1]).rotor.blades[0].lag_damping == 0.0  # (blade 1 failed)
@@ -106,3 +110,21 @@ def test_compiled_code_is_cached_only_where_no_one_else_can_write(tmp_path, monk
     assert propagate.cache_folder() is None
     monkeypatch.setenv("XDG_CACHE_HOME", "relative/path")
     assert propagate.cache_folder() is None
+
+
+def test_the_first_use_compiles_in_the_background_and_numpy_serves_meanwhile(tmp_path, monkeypatch):
+    """A machine without the compiled kernel: the first use starts the compiler in a
+    background process and gets None (NumPy integrates); once that process has
+    filled the cache, the kernel is ready and gives the NumPy path's matrices."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    for name in ("_KERNEL", "_STARTED", "_BACKGROUND"):
+        monkeypatch.setattr(propagate, name, None if name != "_STARTED" else False)
+    assert propagate.kernel() is None
+    assert not transition.use_kernel(transition.DOP8)
+    assert propagate._BACKGROUND.wait(timeout=300) == 0
+    assert propagate.kernel() is not None and transition.use_kernel(transition.DOP8)
+    system, speeds = shipped_system("two-bladed")
+    w = speeds[[10, 200]]
+    fast = transition.transition(system, w, np.pi, 40)
+    slow = transition.transition(system, w, np.pi, 40, compiled=False)
+    assert relative(fast, slow).max() < 1e-12

@@ -21,9 +21,13 @@ loops are compiled with numba, released from the GIL and run over batches of
 speeds on groundres' thread pool (:mod:`groundres.parallel`). Compiled code is
 cached by numba in ``$XDG_CACHE_HOME/groundres/numba`` (``~/.cache`` by
 default) only where that folder and its parents belong to the user (or root)
-and no one else may write there; elsewhere it is compiled in memory for each
-process. :func:`groundres.transition.transition` with ``compiled=False`` is the
-NumPy reference, tested against this path.
+and no one else may write there. Compiling takes several seconds, more than a
+whole run: the first use on a machine starts it in a background process
+(:func:`kernel`) and goes on with the NumPy path (the step propagators formed
+at once, step counts from a Richardson estimate: as fast as before the kernel
+existed, and within the same tolerance); later runs load the compiled code
+from the cache. The NumPy path is also the reference the kernel is tested
+against: the same grid gives the same matrices to round-off.
 """
 
 from __future__ import annotations
@@ -145,25 +149,126 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # prag
 
 
 _KERNEL = None
+_STARTED = False
+_BACKGROUND = None
+#: A background compilation older than this [s] is taken as dead and started again.
+COMPILE_TIMEOUT = 600.0
 
 
-def _kernel():
-    """The compiled kernel (compiled, or loaded from numba's cache, on first use)."""
-    global _KERNEL
-    if _KERNEL is None:
-        import numba
-        from numba.core import config
+def _key() -> str:
+    """What the compiled code depends on: numba's and Python's versions and this file."""
+    import hashlib
+    import sys
+    from importlib.metadata import version
 
-        folder = cache_folder()
-        previous = config.CACHE_DIR
+    __version__ = version("numba")  # (without importing numba: a run that finds no kernel ready needs none)
+    with open(__file__, "rb") as f:
+        source = hashlib.sha256(f.read()).hexdigest()[:16]
+    return f"{__version__}-py{sys.version_info[0]}{sys.version_info[1]}-{source}"
+
+
+def _dispatcher(folder):
+    """The kernel as a numba dispatcher, cached in ``folder`` (None: in memory only)."""
+    import numba
+    from numba.core import config
+
+    previous = config.CACHE_DIR
+    try:
+        # numba places a function's cache when it is decorated: ours only, in a safe folder
+        if folder is not None:
+            config.CACHE_DIR = folder
+        return numba.njit(nogil=True, cache=folder is not None)(_propagate)
+    finally:
+        config.CACHE_DIR = previous
+
+
+def kernel(wait: bool = False):
+    """The compiled kernel where it is ready, else None.
+
+    Ready: compiled before on this machine (numba's cache in
+    :func:`cache_folder` holds it), or compiled now with ``wait``. The first
+    use does not wait for the compiler (several seconds): it starts it in a
+    background process, which fills the cache for the runs that follow, and
+    the NumPy path serves meanwhile (:func:`groundres.transition.use_kernel`).
+    Without a safe cache folder the kernel is compiled only with ``wait``.
+    """
+    global _KERNEL, _STARTED
+    if _KERNEL is not None:
+        return _KERNEL
+    if _BACKGROUND is not None:
+        _BACKGROUND.poll()
+    folder = cache_folder()
+    if folder is None:
+        if wait:
+            _KERNEL = _dispatcher(None)
+        return _KERNEL
+    marker = os.path.join(folder, "ready-" + _key())
+    if os.path.exists(marker) or wait:
+        _KERNEL = _dispatcher(folder)
+        if not os.path.exists(marker):
+            _warm(_KERNEL, marker)
+        return _KERNEL
+    if not _STARTED:
+        _STARTED = True
+        _compile_in_background(folder)
+    return None
+
+
+def _warm(dispatcher, marker):
+    """Compile (or load) the kernel by one small call, then mark it ready."""
+    nodes, coef = np.zeros((2, len(E5), 1, 5)), np.ones((1, 5))
+    halves = np.array([0, 1, 0, 1, 0], dtype=np.int64)
+    a, b = np.zeros((len(E5), len(E5))), np.zeros(len(E5))
+    dispatcher(nodes, coef, halves, 0.1, a, b, E5, E3, True, np.empty((1, 1, 2, 2)), np.empty(1))
+    with open(marker, "w") as f:
+        f.write("compiled\n")
+
+
+def _compile_in_background(folder):
+    """Start ``python -m groundres.propagate`` (the installed package compiling its
+    kernel into the cache) detached, unless one started recently is still at it."""
+    import subprocess
+    import sys
+    import time
+
+    lock = os.path.join(folder, "compiling")
+    try:
+        if time.time() - os.path.getmtime(lock) < COMPILE_TIMEOUT:
+            return
+    except OSError:
+        pass
+    try:
+        with open(lock, "w") as f:
+            f.write(str(os.getpid()))
+        global _BACKGROUND
+        _BACKGROUND = subprocess.Popen(  # (kept, and polled by kernel(), which reaps it)
+            [sys.executable, "-m", "groundres.propagate"],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,
+            close_fds=True,
+        )
+    except OSError:  # (no process could be started: the NumPy path serves)
+        pass
+
+
+def compile_now():
+    """Compile the kernel into the cache and mark it ready (``python -m groundres.propagate``)."""
+    folder = cache_folder()
+    if folder is None:
+        return
+    try:
+        os.nice(10)  # (in the background of the run that started it: let that run go first)
+    except (AttributeError, OSError):
+        pass
+    try:
+        _warm(_dispatcher(folder), os.path.join(folder, "ready-" + _key()))
+    finally:
         try:
-            # numba places a function's cache when it is decorated: ours only, in a safe folder
-            if folder is not None:
-                config.CACHE_DIR = folder
-            _KERNEL = numba.njit(nogil=True, cache=folder is not None)(_propagate)
-        finally:
-            config.CACHE_DIR = previous
-    return _KERNEL
+            os.remove(os.path.join(folder, "compiling"))
+        except OSError:
+            pass
 
 
 def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool = False):
@@ -199,14 +304,18 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     halves = np.array(HALVES[: coef.shape[1]], dtype=np.int64)
     out = np.empty((n_s, parts, m, m))
     err = np.empty(n_s)
-    kernel = _kernel()
+    compiled = kernel(wait=True)
     a, b = np.ascontiguousarray(tableau.a), np.ascontiguousarray(tableau.b)
     width = max(1, -(-n_s // CORES))
     chunks = [(i, min(i + width, n_s)) for i in range(0, n_s, width)]
 
     def task(chunk):
         i0, i1 = chunk
-        kernel(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, not cumulative, out[i0:i1], err[i0:i1])
+        compiled(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, not cumulative, out[i0:i1], err[i0:i1])
 
     map_threads(task, chunks)
     return np.swapaxes(out, 0, 1), err
+
+
+if __name__ == "__main__":
+    compile_now()

@@ -11,15 +11,17 @@ multipliers to 1e-10 it needs three to five times fewer stage evaluations
 than a sixth-order method (Butcher 1964, kept as BUTCHER6 for comparison).
 Two paths compute the same matrices:
 
-* the compiled kernel (:mod:`groundres.propagate`, the default), which
-  integrates each speed's transition matrix step by step and estimates its
-  error from the method's embedded estimators, so that a speed whose
-  estimate is too large is integrated once more with the step count the
-  estimate predicts (:func:`integrate`);
-* the NumPy reference, which forms every step's propagator for all steps and
-  speeds of a batch at once and multiplies them together by pairwise
-  reduction; its step count comes from a Richardson estimate against a
-  coarser grid. Tests hold the two together.
+* the compiled kernel (:mod:`groundres.propagate`, wherever it has been
+  compiled), which integrates each speed's transition matrix step by step and
+  estimates its error from the method's embedded estimators, so that a speed
+  whose estimate is too large is integrated once more with the step count
+  the estimate predicts (:func:`integrate`);
+* NumPy, which forms every step's propagator for all steps and speeds of a
+  batch at once and multiplies them together by pairwise reduction; its step
+  count comes from a Richardson estimate against a coarser grid. It serves
+  while the kernel compiles (the first run on a machine) and is the
+  reference the kernel is tested against (the same grid, the same matrices
+  to round-off).
 
 The step count is chosen per speed (a first guess from the fastest rate of
 the system per radian), and speeds with the same step count are integrated
@@ -83,7 +85,7 @@ HARMONIC_RATE = 2.0
 TOLERANCE = 5e-11
 #: Smallest step count per interval of the NumPy reference's Richardson ladder.
 BASE_STEPS = 32
-#: Smallest step count per interval of the compiled path (:func:`compiled_ladder`).
+#: Smallest step count per interval with the embedded estimate (:func:`compiled_ladder`).
 LEAST_STEPS = 16
 #: Largest step count per interval.
 MAX_STEPS = 1 << 20
@@ -201,7 +203,7 @@ def transition(
     blocks: int = 1,
     tableau=DOP8,
     lag_damping=None,
-    compiled: bool = True,
+    compiled: bool | None = None,
     cumulative: bool = False,
 ):
     """Azimuth-domain transition matrices over equal parts of [0, angle], for a batch of speeds.
@@ -222,8 +224,10 @@ def transition(
     tableau : Tableau
     lag_damping : ndarray (n_s,), optional
         Lag damping set on the working dampers at each speed [in the system's units].
-    compiled : bool
-        The compiled kernel (:mod:`groundres.propagate`, DOP8 only) or the NumPy reference.
+    compiled : bool or None
+        The compiled kernel (True; DOP8 only), NumPy with every step's
+        propagator formed at once (False), or the kernel where it is ready
+        (None, :func:`use_kernel`).
     cumulative : bool
         Transition matrices from 0 to the end of each part instead of over each part.
 
@@ -234,10 +238,21 @@ def transition(
         product (:func:`ordered_product`) is the one over [0, angle] (with
         ``cumulative``, the last one is).
     """
-    if compiled and tableau is DOP8:
+    if use_kernel(tableau, compiled):
         return transition_estimated(system, speeds, angle, steps, blocks, lag_damping, cumulative)[0]
     parts = _reference(system, speeds, angle, steps, blocks, tableau, lag_damping)
     return prefix_products(parts) if cumulative else parts
+
+
+def use_kernel(tableau, compiled: bool | None = None) -> bool:
+    """Whether the compiled kernel integrates: DOP8, and ``compiled``, or (None) where the
+    kernel is ready (:func:`groundres.propagate.kernel`; until then, the first run on a
+    machine, NumPy serves while it compiles in the background)."""
+    if tableau is not DOP8 or compiled is False:
+        return False
+    from .propagate import kernel
+
+    return compiled is True or kernel() is not None
 
 
 def prefix_products(parts):
@@ -278,7 +293,7 @@ def transition_estimated(
         Sum of the steps' estimated errors, relative to max(1, |Phi|)
         (:func:`groundres.propagate.propagate`).
     """
-    from .propagate import propagate  # (numba is imported with it: only where periodic analyses run)
+    from .propagate import propagate  # (numba is imported only where periodic analyses run)
 
     speeds = np.asarray(speeds, dtype=float)
     damping = lag_damping is not None
@@ -411,7 +426,8 @@ ESTIMATE_ORDER = 7
 
 
 def compiled_ladder(least: int = LEAST_STEPS):
-    """Step counts of the compiled path: c 2^k for c in 8, 10, 12, 14 (at most 25 % apart), from ``least``."""
+    """Step counts with the embedded estimate: c 2^k for c in 8, 10, 12, 14 (at most
+    25 % apart), from ``least``."""
     out = sorted({c << k for c in (8, 10, 12, 14) for k in range(1, 18) if least <= c << k <= MAX_STEPS})
     return np.array(out)
 
@@ -428,18 +444,19 @@ def integrate(
     rate=None,
     least=None,
     lag_damping=None,
-    compiled: bool = True,
+    compiled: bool | None = None,
     cumulative: bool = False,
 ):
     """Transition over [0, angle], step count adapted per speed.
 
-    With the compiled kernel (DOP8), the embedded estimate of each speed's
-    error decides (:func:`transition_estimated`, :data:`ESTIMATE_SLACK`); a
-    speed that fails is integrated again with the step count the estimate
-    predicts (error ~ S^-7). With the NumPy reference each speed is
+    With the compiled kernel (:func:`use_kernel`), the embedded estimate of
+    each speed's error decides (:func:`transition_estimated`,
+    :data:`ESTIMATE_SLACK`); a speed that fails is integrated again with the
+    step count the estimate predicts (error ~ S^-7). With NumPy each speed is
     integrated with S steps and with fewer steps S' on the same ladder; the
     Richardson estimate |Phi_S - Phi_S'| / ((S/S')^p - 1) of the error of
-    Phi_S decides, and the last result serves as the next comparison.
+    Phi_S decides, and the last result serves as the next comparison. Both
+    meet the tolerance; their step counts differ.
 
     Parameters
     ----------
@@ -457,8 +474,8 @@ def integrate(
         Fewest steps at each speed (the samples its harmonics need).
     lag_damping : ndarray, optional
         Lag damping per speed on the working dampers (:func:`transition`).
-    compiled : bool
-        The compiled kernel with its embedded estimate (DOP8 only), or the NumPy reference.
+    compiled : bool or None
+        The compiled kernel, NumPy, or the kernel where it is ready (:func:`use_kernel`).
     cumulative : bool
         ``parts`` given to ``accept`` run from 0 to the end of each part (:func:`transition`).
 
@@ -469,8 +486,8 @@ def integrate(
     """
     speeds = np.asarray(speeds, dtype=float)
     blocks_for = blocks_for or (lambda count, sel: 1)
-    compiled = compiled and tableau is DOP8
-    ladder_ = compiled_ladder() if compiled else ladder(BASE_STEPS)
+    embedded = use_kernel(tableau, compiled)
+    ladder_ = compiled_ladder() if embedded else ladder(BASE_STEPS)
     rate = rates_per_radian(system, speeds, lag_damping=lag_damping) if rate is None else rate
     need = estimated_steps(system, speeds, angle, rate)
     if need.max() > MAX_STEPS:  # refused before any work: the ladder would climb to its top in vain
@@ -478,13 +495,13 @@ def integrate(
         raise SpeedRangeError(
             float(speeds[i]), f"needs about {need[i]:.2g} steps per period (at most {MAX_STEPS} are taken)"
         )
-    guess = (need if compiled else angle * (rate + HARMONIC_RATE)) / scale
+    guess = (need if embedded else angle * (rate + HARMONIC_RATE)) / scale
     if least is not None:
         guess = np.maximum(guess, least)
     steps = ladder_[np.minimum(np.searchsorted(ladder_, guess), len(ladder_) - 1)]
     n2 = 2 * system.size
-    p = ESTIMATE_ORDER if compiled else tableau.order
-    bound = tolerance * (ESTIMATE_SLACK if compiled else 1.0)
+    p = ESTIMATE_ORDER if embedded else tableau.order
+    bound = tolerance * (ESTIMATE_SLACK if embedded else 1.0)
     phi = np.empty((len(speeds), n2, n2))
     previous = {}  # speed index -> (steps, phi) of its last rejected run (Richardson)
     pending = np.arange(len(speeds))
@@ -492,7 +509,7 @@ def integrate(
 
     def run(sel, count, blocks):
         c = None if damping is None else damping[sel]
-        if compiled:
+        if embedded:
             return transition_estimated(system, speeds[sel], angle, int(count), blocks, c, cumulative)
         parts = transition(system, speeds[sel], angle, int(count), blocks, tableau, c, False, cumulative)
         return parts, None
