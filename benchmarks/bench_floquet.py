@@ -25,7 +25,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
-from groundres import analyze, floquet, load_case
+from groundres import analyze, floquet, load_case, propagate
 from groundres.simulate import harmonic_matrices
 from groundres.system import System
 
@@ -59,6 +59,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--baseline-speeds", type=int, default=400, help="speeds timed for the baseline")
     args = parser.parse_args()
+    propagate.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
     case = load_case("hammond-1974-one-damper")
     system = System(case.rotor, case.body)
     speeds = case.sweep.speeds
