@@ -97,17 +97,26 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
 
 
 def test_compiled_code_is_cached_only_where_no_one_else_can_write(tmp_path, monkeypatch):
-    """numba's cache holds machine code: it is used only in a folder that this
-    user (or root) owns and no one else may write, up to the cache root."""
+    """numba's cache holds machine code: it is used only in folders that this
+    user owns and no one else may write, under a root that no other account
+    may write (its group only where that group is the user's own)."""
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     os.chmod(tmp_path, 0o755)
-    assert propagate.cache_folder() == str(tmp_path / "groundres" / "numba")
-    assert (os.stat(tmp_path / "groundres" / "numba").st_mode & 0o777) == 0o700
-    os.chmod(tmp_path / "groundres", 0o777)
+    mask = os.umask(0o002)  # (a usual umask for accounts with their own group)
+    try:
+        assert propagate.cache_folder() == str(tmp_path / "groundres" / "numba")
+    finally:
+        os.umask(mask)
+    for folder in (tmp_path / "groundres", tmp_path / "groundres" / "numba"):
+        assert (os.stat(folder).st_mode & 0o777) == 0o700
+    os.chmod(tmp_path / "groundres", 0o770)
     assert propagate.cache_folder() is None
-    os.chmod(tmp_path / "groundres", 0o755)
+    os.chmod(tmp_path / "groundres", 0o700)
+    os.chmod(tmp_path, 0o757)
+    assert propagate.cache_folder() is None
     os.chmod(tmp_path, 0o775)
-    assert propagate.cache_folder() is None
+    own_group = os.stat(tmp_path).st_gid == os.getgid()
+    assert (propagate.cache_folder() is not None) == own_group
     monkeypatch.setenv("XDG_CACHE_HOME", "relative/path")
     assert propagate.cache_folder() is None
 

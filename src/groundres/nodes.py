@@ -23,12 +23,16 @@ dense solve is used.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from .system import System
 
 #: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
 GRID_CACHE_SIZE = 4_000_000
+#: Held while a system's grid cache is read or changed (threads of one batch share it).
+_CACHE_LOCK = threading.Lock()
 
 
 def _harmonic_basis(psi, degree: int = 2):
@@ -104,9 +108,10 @@ class _Harmonics:
 
 def _harmonics(system: System) -> _Harmonics:
     """The system's harmonics, fitted once and kept on it."""
-    if "node_harmonics" not in system.grid_cache:
-        system.grid_cache["node_harmonics"] = _Harmonics(system)
-    return system.grid_cache["node_harmonics"]
+    fit = system.grid_cache.get("node_harmonics")
+    if fit is None:
+        fit = system.grid_cache["node_harmonics"] = _Harmonics(system)
+    return fit
 
 
 #: Which half of [q; q'] each block of :func:`node_blocks` multiplies (0: q, 1: q').
@@ -166,14 +171,15 @@ def grid_nodes(
         return node_blocks(system, (np.arange(first, last)[:, None] + tableau.c[None, :]) * h, damping)
     cache = system.grid_cache
     key = (angle, int(steps), id(tableau), damping)
-    if key in cache:
-        cache[key] = cache.pop(key)  # (the most recently used last)
-    else:
-        grids = [k for k in cache if isinstance(k, tuple)]
-        while grids and sum(cache[k].size for k in grids) + size > 4 * GRID_CACHE_SIZE:
-            del cache[grids.pop(0)]
-        cache[key] = node_blocks(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h, damping)
-    return cache[key][first:last]
+    with _CACHE_LOCK:  # (one thread builds a grid; the others wait for it)
+        if key in cache:
+            cache[key] = cache.pop(key)  # (the most recently used last)
+        else:
+            grids = [k for k in cache if isinstance(k, tuple)]
+            while grids and sum(cache[k].size for k in grids) + size > 4 * GRID_CACHE_SIZE:
+                del cache[grids.pop(0)]
+            cache[key] = node_blocks(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h, damping)
+        return cache[key][first:last]
 
 
 def node_coefficients(speeds, lag_damping=None) -> np.ndarray:

@@ -50,20 +50,32 @@ E3 = np.array(_dop853.E3)
 def cache_folder() -> str | None:
     """The folder numba caches groundres' compiled code in, or None where it would be unsafe.
 
-    Safe: the folder and every parent up to the cache root are owned by this
-    user or root and writable by no one else (so that no other account can
-    plant code that this process would load).
+    Safe: ``groundres/numba`` under the cache root (``$XDG_CACHE_HOME`` or
+    ``~/.cache``), both made by groundres with mode 0700, owned by this user
+    and writable by no one else; the root itself owned by this user or root
+    and writable by no other account (its group may write only where that
+    group is the user's own). No other account can then plant code that this
+    process would load.
     """
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     if not os.path.isabs(base):
         return None
     path = os.path.join(base, "groundres", "numba")
+    uid = os.getuid()
     try:
-        os.makedirs(path, mode=0o700, exist_ok=True)
-        uid = os.getuid()
-        for folder in (path, os.path.dirname(path), base):
-            info = os.stat(folder)
-            if info.st_uid not in (uid, 0) or info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        os.makedirs(base, mode=0o700, exist_ok=True)
+        info = os.stat(base)
+        shared = info.st_mode & stat.S_IWOTH or (info.st_mode & stat.S_IWGRP and info.st_gid != os.getgid())
+        if info.st_uid not in (uid, 0) or shared:
+            return None
+        for folder in (os.path.dirname(path), path):
+            try:
+                os.mkdir(folder, 0o700)
+                os.chmod(folder, 0o700)  # (whatever the umask)
+            except FileExistsError:
+                pass
+            info = os.stat(folder, follow_symlinks=False)
+            if not stat.S_ISDIR(info.st_mode) or info.st_uid != uid or info.st_mode & 0o022:
                 return None
     except OSError:
         return None
@@ -241,8 +253,11 @@ def _compile_in_background(folder):
         with open(lock, "w") as f:
             f.write(str(os.getpid()))
         global _BACKGROUND
-        _BACKGROUND = subprocess.Popen(  # (kept, and polled by kernel(), which reaps it)
-            [sys.executable, "-m", "groundres.propagate"],
+        # (-P and the cache folder as working folder: no module is taken from wherever
+        # the run was started; kept, and polled by kernel(), which reaps it)
+        _BACKGROUND = subprocess.Popen(
+            [sys.executable, "-P", "-m", "groundres.propagate"],
+            cwd=folder,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,

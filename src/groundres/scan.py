@@ -89,9 +89,7 @@ def zoom_many(
     the best and repeats (the bracket shrinks by (points - 1) / 2 each round)
     until it is narrower than ``xtol`` relative to ``hi``; then a parabola
     through the best three gives the peak, kept if it is higher. The
-    brackets advance together: one call of ``fun`` per round for all. A list
-    ``flat`` is given whether each bracket's first samples were all equal
-    (to 1e-9 of their size: a root that does not change with speed).
+    brackets advance together: one call of ``fun`` per round for all.
     """
     state = [[float(lo), float(hi), -np.inf, float(lo), True] for lo, hi in spans]  # lo, hi, best, at, open
     vertex = []  # (bracket, speed) of the final parabolas
@@ -102,8 +100,6 @@ def zoom_many(
         w = np.concatenate([np.linspace(st[0], st[1], points) for st in active])
         v = np.asarray(fun(w), dtype=float).reshape(len(active), points)
         w = w.reshape(len(active), points)
-        if flat is not None and not flat:
-            flat.extend(bool(np.ptp(vk) <= 1e-9 * np.abs(vk).max()) for vk in v)
         for st, wk, vk in zip(active, w, v):
             i = int(np.argmax(vk))
             if vk[i] > st[2]:
@@ -163,18 +159,13 @@ class PeakWatch:
     def _refine(self, p, spans):
         """Peaks in watched spans [lo, hi, last peak, settled] (the grid brackets they
         came from: a peak that leaves its bracket is found again by the next full
-        scan), refined together. A span is settled where refining cannot help: its
-        values did not change with speed (a root that does not depend on it), or
-        the largest lay on an end of the bracket (the peak left it, or another root
-        rose above it there); its last peak is then kept, where the mode that
-        peaked there is looked at again. Returns the refined values."""
-        flat = []
-        found = zoom_many(
-            lambda w: self.fun(p, w), [(span[0], span[1]) for span in spans], self.xtol, flat=flat
-        )
-        for span, is_flat, (_, at) in zip(spans, flat, found):
-            edge = min(at - span[0], span[1] - at) <= self.xtol * abs(span[1])
-            span[3] = is_flat or edge
+        scan), refined together. A span is settled where its largest value lay on
+        an end of the bracket (the peak left it, or another root rose above it
+        there): refining it again cannot help, and its last peak is kept, where
+        the mode that peaked there is looked at again. Returns the refined values."""
+        found = zoom_many(lambda w: self.fun(p, w), [(span[0], span[1]) for span in spans], self.xtol)
+        for span, (_, at) in zip(spans, found):
+            span[3] = min(at - span[0], span[1] - at) <= self.xtol * abs(span[1])
             if not span[3]:
                 span[2] = at
         return [top for top, _ in found]
