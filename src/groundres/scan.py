@@ -88,10 +88,12 @@ def zoom_many(
     In each bracket: evaluates ``points`` speeds, keeps the neighbourhood of
     the best and repeats (the bracket shrinks by (points - 1) / 2 each round)
     until it is narrower than ``xtol`` relative to ``hi``; then a parabola
-    through the best three gives the peak, kept if it is higher. The
-    brackets advance together: one call of ``fun`` per round for all.
+    through the best three gives the peak, kept if it is higher. Where the
+    best of a round is an end of the bracket itself, that end is the answer.
+    The brackets advance together: one call of ``fun`` per round for all.
     """
-    state = [[float(lo), float(hi), -np.inf, float(lo), True] for lo, hi in spans]  # lo, hi, best, at, open
+    # lo, hi, best, at, open, and the bracket's own ends
+    state = [[float(lo), float(hi), -np.inf, float(lo), True, float(lo), float(hi)] for lo, hi in spans]
     vertex = []  # (bracket, speed) of the final parabolas
     for _ in range(rounds):
         active = [st for st in state if st[4]]
@@ -104,6 +106,9 @@ def zoom_many(
             i = int(np.argmax(vk))
             if vk[i] > st[2]:
                 st[2], st[3] = float(vk[i]), float(wk[i])
+            if (i == 0 and wk[0] == st[5]) or (i == points - 1 and wk[-1] == st[6]):
+                st[4] = False  # (the largest at an end of the bracket: there it stays)
+                continue
             step = wk[1] - wk[0]
             if step <= xtol * max(abs(st[1]), 1e-300):
                 st[4] = False
