@@ -56,9 +56,10 @@ def matched(a, b):
 
 @pytest.mark.parametrize("name", CASES)
 @pytest.mark.parametrize("speed", [4.0, 15.0, 30.0])
-def test_multipliers_to_1e_9_against_a_tight_reference(name, speed):
+@pytest.mark.parametrize("compiled", [True, False], ids=["compiled kernel", "numpy"])
+def test_multipliers_to_1e_9_against_a_tight_reference(name, speed, compiled):
     system = System(CASES[name]().rotor, CASES[name]().body)
-    ours = np.linalg.eigvals(floquet.monodromy(system, np.array([speed]))[0])
+    ours = np.linalg.eigvals(floquet.monodromy(system, np.array([speed]), compiled=compiled)[0])
     ref = np.linalg.eigvals(reference_monodromy(system, speed))
     assert matched(ours, ref).max() <= 1e-9 * max(1.0, np.abs(ref).max())
 

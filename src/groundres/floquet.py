@@ -463,14 +463,17 @@ def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarra
     return steps, rows
 
 
-def monodromy(system: System, speeds, tolerance=TOLERANCE, scale=STEP_SCALE, tableau=DOP8) -> np.ndarray:
+def monodromy(
+    system: System, speeds, tolerance=TOLERANCE, scale=STEP_SCALE, tableau=DOP8, compiled=None
+) -> np.ndarray:
     """Full-revolution transition matrix of x = [q; dq/dt], shape (n_s, 2n, 2n).
 
-    Built from the reduced period with the symmetry when there is one.
+    Built from the reduced period with the symmetry when there is one;
+    ``compiled`` as in :func:`groundres.transition.integrate`.
     """
     speeds = np.asarray(speeds, dtype=float)
     sym = symmetry(system)
-    phi, _ = integrate(system, speeds, sym.angle, tolerance, scale, tableau)
+    phi, _ = integrate(system, speeds, sym.angle, tolerance, scale, tableau, compiled=compiled)
     g = np.kron(np.eye(2), sym.g)
     full = np.linalg.matrix_power(g.T @ phi, system.n_blades // sym.shift)
     n = system.size

@@ -84,26 +84,26 @@ class _Harmonics:
             self.s = np.einsum("ht,tab->hab", fit9, s9)
             self.e = np.einsum("ht,tab->hab", fit9, e9)
 
-    def solve(self, psi) -> np.ndarray:
-        """M(psi)^-1 [K2, C1, K1, C0, K0 (, dC/dc)](psi): (..., n, W)."""
+    def solve(self, psi, sign: float = 1.0) -> np.ndarray:
+        """``sign`` M(psi)^-1 [K2, C1, K1, C0, K0 (, dC/dc)](psi): (..., n, W)."""
         psi = np.asarray(psi, dtype=float)
         basis = _harmonic_basis(psi).reshape(-1, 5)
 
-        def at(coeff, b=basis):  # a trigonometric polynomial at every azimuth: one matrix product
-            return (b @ coeff.reshape(len(coeff), -1)).reshape(psi.shape + coeff.shape[1:])
+        def at(coeff, b=basis, scale=1.0):  # a trigonometric polynomial at every azimuth: one product
+            return (b @ (scale * coeff.reshape(len(coeff), -1))).reshape(psi.shape + coeff.shape[1:])
 
         if not self.schur:
-            return np.linalg.solve(at(self.mass), at(self.right))
+            return np.linalg.solve(at(self.mass), at(self.right, scale=sign))
         nb = self.nb
-        g = at(self.g)  # (..., nl, W)
         if nb == 0:
-            return g
+            return at(self.g, scale=sign)
         basis4 = _harmonic_basis(psi, 4).reshape(-1, 9)
-        xb = np.linalg.solve(at(self.s, basis4), at(self.e, basis4))  # (..., nb, W)
-        h = at(self.h)  # (..., nl, nb)
-        for j in range(nb):  # g - h @ xb, as nb rank-one updates (nb is small)
-            g -= h[..., :, j, None] * xb[..., None, j, :]
-        return np.concatenate([xb, g], -2)
+        xb = np.linalg.solve(at(self.s, basis4), at(self.e, basis4, sign))  # (..., nb, W)
+        out = np.empty(psi.shape + (self.n, self.g.shape[-1]))
+        out[..., :nb, :] = xb
+        out[..., nb:, :] = at(self.g, scale=sign)  # G - H xb
+        out[..., nb:, :] -= at(self.h) @ xb
+        return out
 
 
 def _harmonics(system: System) -> _Harmonics:
@@ -125,7 +125,7 @@ def node_blocks(system: System, psi, damping: bool = False) -> np.ndarray:
     half :data:`HALVES` [b] of [q; q'] (:func:`node_coefficients`); dC/dc (with
     ``damping``) needs a system from :meth:`groundres.system.System.lag_damping_split`.
     """
-    x = -_harmonics(system).solve(psi)
+    x = _harmonics(system).solve(psi, sign=-1.0)
     return x if damping else x[..., : 5 * system.size]
 
 
