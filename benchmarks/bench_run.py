@@ -65,7 +65,7 @@ def timed_run(path, out, repeat):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--loop-speeds", type=int, default=20, help="speeds the lean loop is timed on")
-    parser.add_argument("--repeat", type=int, default=3, help="runs of each (the median is kept)")
+    parser.add_argument("--repeat", type=int, default=5, help="runs of each (the median is kept)")
     args = parser.parse_args()
     work = tempfile.mkdtemp(prefix="groundres-bench-")
     try:
