@@ -19,6 +19,10 @@ body's few coordinates, so a node costs a few products with the
 (precomputed) blade block's inverse applied to the harmonics instead of a
 dense solve. Where the blade block does vary (no such model today), the
 dense solve is used.
+
+The roots of the equations held at a few azimuths (:func:`frozen_roots`)
+bound those of the periodic system roughly: they set step counts and tell
+where the lifted Floquet problem is needed.
 """
 
 from __future__ import annotations
@@ -193,3 +197,41 @@ def node_coefficients(speeds, lag_damping=None) -> np.ndarray:
     if lag_damping is not None:
         cols.append(np.broadcast_to(lag_damping, inv.shape) * inv)
     return np.stack(cols, 1)
+
+
+def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
+    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
+
+    With ``lag_damping`` (per speed) the system is a split one (:func:`transition`).
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
+    damping = lag_damping is not None
+    f = np.swapaxes(expand(node_blocks(system, psi, damping), node_coefficients(speeds, lag_damping)), 0, 1)
+    n = f.shape[-2]
+    a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
+    a[..., :n, n:] = np.eye(n)
+    a[..., n:, :] = f
+    return np.linalg.eigvals(a)
+
+
+def rates_per_radian(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
+    """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
+    return np.abs(frozen_roots(system, speeds, probes, lag_damping)).max(-1).max(0)
+
+
+def frozen_rates(
+    system: System, speeds, probes=4, lag_damping=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fastest rate per radian and smallest, largest real part [1/s] from one frozen solve.
+
+    (:func:`rates_per_radian` and the real parts at once; azimuths 0, pi/2, pi,
+    3 pi/2). The roots of the equations with the azimuth held fixed bound those
+    of the periodic system roughly (a blade without damper keeps its neutral
+    root, the others their damping), which the lifted Floquet problem needs
+    before it has any root.
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    roots = frozen_roots(system, speeds, probes, lag_damping)
+    real = roots.real * speeds[:, None]
+    return np.abs(roots).max(-1).max(0), real.min(-1).min(0), real.max(-1).max(0)

@@ -30,53 +30,21 @@ together. ``benchmarks/bench_floquet.py`` compares it with SciPy's adaptive DOP8
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from fractions import Fraction as _F
-
 import numpy as np
 
-from . import _dop853
-from .nodes import GRID_CACHE_SIZE, expand, grid_nodes, node_blocks, node_coefficients, node_matrices  # noqa: F401
-from .parallel import CORES, map_threads
+from .nodes import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrices: for callers)
+    GRID_CACHE_SIZE,
+    frozen_rates,
+    frozen_roots,
+    grid_nodes,
+    node_coefficients,
+    node_matrices,
+    rates_per_radian,
+)
+from .pairwise import ordered_product, transition_pairwise
 from .system import System
+from .tableau import BUTCHER6, DOP8, Tableau  # noqa: F401  (for callers)
 
-# Butcher (1964) sixth-order, seven-stage explicit Runge-Kutta method.
-_C = [0, _F(1, 3), _F(2, 3), _F(1, 3), _F(1, 2), _F(1, 2), 1]
-_A = [
-    [],
-    [_F(1, 3)],
-    [0, _F(2, 3)],
-    [_F(1, 12), _F(1, 3), _F(-1, 12)],
-    [_F(-1, 16), _F(9, 8), _F(-3, 16), _F(-3, 8)],
-    [0, _F(9, 8), _F(-3, 8), _F(-3, 4), _F(1, 2)],
-    [_F(9, 44), _F(-9, 11), _F(63, 44), _F(18, 11), 0, _F(-16, 11)],
-]
-_B = [_F(11, 120), 0, _F(27, 40), _F(27, 40), _F(-4, 15), _F(-4, 15), _F(11, 120)]
-
-
-@dataclass(frozen=True)
-class Tableau:
-    """An explicit Runge-Kutta method: nodes c, matrix a (lower triangular), weights b."""
-
-    c: np.ndarray
-    a: np.ndarray
-    b: np.ndarray
-    order: int
-
-    @classmethod
-    def from_lists(cls, c, a, b, order):
-        s = len(c)
-        mat = np.zeros((s, s))
-        for i, row in enumerate(a):
-            mat[i, : len(row)] = [float(v) for v in row]
-        return cls(np.array([float(v) for v in c]), mat, np.array([float(v) for v in b]), order)
-
-
-BUTCHER6 = Tableau.from_lists(_C, _A, _B, 6)
-#: Dormand-Prince eighth-order method (DOP853's twelve stages) on a fixed grid:
-#: for multipliers to 1e-10 it needs three to five times fewer stage
-#: evaluations than BUTCHER6 on the shipped cases (benchmarks/bench_floquet.py).
-DOP8 = Tableau.from_lists(_dop853.C, _dop853.A, _dop853.B, 8)
 #: First guess of step * (fastest rate per radian + HARMONIC_RATE).
 STEP_SCALE = 1.0
 #: Rate [1/rad] added for the azimuth variation of the coefficients themselves.
@@ -103,96 +71,6 @@ class SpeedRangeError(ValueError):
             "speed a few times higher, or use method = 'auto' where the case has a time-invariant form"
         )
         self.speed = speed
-
-
-def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
-    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
-
-    With ``lag_damping`` (per speed) the system is a split one (:func:`transition`).
-    """
-    speeds = np.asarray(speeds, dtype=float)
-    psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
-    damping = lag_damping is not None
-    f = np.swapaxes(expand(node_blocks(system, psi, damping), node_coefficients(speeds, lag_damping)), 0, 1)
-    n = f.shape[-2]
-    a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
-    a[..., :n, n:] = np.eye(n)
-    a[..., n:, :] = f
-    return np.linalg.eigvals(a)
-
-
-def rates_per_radian(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
-    """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
-    return np.abs(frozen_roots(system, speeds, probes, lag_damping)).max(-1).max(0)
-
-
-def frozen_rates(
-    system: System, speeds, probes=4, lag_damping=None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Fastest rate per radian and smallest, largest real part [1/s] from one frozen solve.
-
-    (:func:`rates_per_radian` and the real parts at once; azimuths 0, pi/2, pi,
-    3 pi/2). The roots of the equations with the azimuth held fixed bound those
-    of the periodic system roughly (a blade without damper keeps its neutral
-    root, the others their damping), which the lifted Floquet problem needs
-    before it has any root.
-    """
-    speeds = np.asarray(speeds, dtype=float)
-    roots = frozen_roots(system, speeds, probes, lag_damping)
-    real = roots.real * speeds[:, None]
-    return np.abs(roots).max(-1).max(0), real.min(-1).min(0), real.max(-1).max(0)
-
-
-def ordered_product(p):
-    """P[-1] @ ... @ P[1] @ P[0] over the first axis, by pairwise reduction."""
-    while p.shape[0] > 1:
-        if p.shape[0] % 2:
-            tail = p[-1:]
-            p = np.concatenate([p[1:-1:2] @ p[0:-1:2], tail])
-        else:
-            p = p[1::2] @ p[0::2]
-    return p[0]
-
-
-def _step_propagators(nodes, coef, h, tableau):
-    """One-step propagators of the Runge-Kutta method for every step and speed.
-
-    The equation is linear, so each step's propagator P = I + h sum b_i K_i
-    (stages started from the identity) is independent of the others and all
-    are formed at once: arrays (steps, n_s, 2n, 2n). With y = [q; v] and
-    v' = F y, a stage is K_i = [V_i; F_i Y_i]; only the lower halves
-    L_i = F_i Y_i are stored, because the upper halves follow from them:
-    Y_i = [I_q + h c_i I_v + h^2 sum (A^2)_il L_l ; I_v + h sum a_il L_l].
-    """
-    steps, stages, n, _ = nodes.shape
-    n2 = 2 * n
-    n_s = len(coef)
-    # F at every node and speed, laid out (stages, steps, n_s, n, 2n)
-    f = np.moveaxis(expand(nodes, coef), 0, 2).swapaxes(0, 1)
-    a, b, c = tableau.a, tableau.b, tableau.c
-    a2 = a @ a
-    eye_q, eye_v = np.eye(n2)[:n], np.eye(n2)[n:]
-    low = np.empty((stages, steps, n_s, n, n2))
-    y = np.empty((steps, n_s, n2, n2))
-    for i in range(stages):
-        if i == 0:
-            low[0] = f[0]  # Y_1 = I
-            continue
-        weights = np.stack([h * h * a2[i, :i], h * a[i, :i]])
-        both = np.tensordot(weights, low[:i], axes=(1, 0))  # (2, steps, n_s, n, 2n)
-        y[..., :n, :] = both[0] + (eye_q + h * c[i] * eye_v)
-        y[..., n:, :] = both[1] + eye_v
-        np.matmul(f[i], y, out=low[i])
-    weights = np.stack([h * h * (b @ a), h * b])
-    both = np.tensordot(weights, low, axes=(1, 0))
-    out = np.empty((steps, n_s, n2, n2))
-    out[..., :n, :] = both[0] + (eye_q + h * b.sum() * eye_v)
-    out[..., n:, :] = both[1] + eye_v
-    return out
-
-
-#: Stage values formed at once by one task (about 25 MB).
-STAGE_BUDGET = 3_000_000
 
 
 def transition(
@@ -240,7 +118,7 @@ def transition(
     """
     if use_kernel(tableau, compiled):
         return transition_estimated(system, speeds, angle, steps, blocks, lag_damping, cumulative)[0]
-    parts = _reference(system, speeds, angle, steps, blocks, tableau, lag_damping)
+    parts = transition_pairwise(system, speeds, angle, steps, blocks, tableau, lag_damping)
     return prefix_products(parts) if cumulative else parts
 
 
@@ -313,55 +191,6 @@ def transition_estimated(
         out[b0:b1] = acc if before is None or not cumulative else acc @ before
         before = out[b1 - 1]
     return out, error
-
-
-def _reference(system: System, speeds, angle, steps, blocks, tableau, lag_damping):
-    """:func:`transition` by NumPy: every step's propagator formed at once, then their product.
-
-    The work is split into tasks (threads) of a few speeds and a run of steps
-    each, so that memory stays bounded however fine the grid: whole parts
-    where they are short, pieces of a part multiplied together where long.
-    """
-    speeds = np.asarray(speeds, dtype=float)
-    damping = lag_damping is not None
-    coef_all = node_coefficients(speeds, lag_damping)
-    h = angle / steps
-    n = system.size
-    n2 = 2 * n
-    per = steps // blocks
-    width = min(len(speeds), -(-len(speeds) // CORES))  # at least one batch per core
-    room = max(1, int(STAGE_BUDGET // (len(tableau.c) * n * n2 * width)))  # steps per task
-    groups = [np.arange(i, min(i + width, len(speeds))) for i in range(0, len(speeds), width)]
-    if per <= room:
-        k = max(1, room // per)
-        runs = [(b, min(b + k, blocks)) for b in range(0, blocks, k)]
-    else:
-        runs = [(b, b + 1) for b in range(blocks)]
-
-    def task(item):
-        sel, (b0, b1) = item
-        coef = coef_all[sel]
-        if per <= room:
-            nodes = grid_nodes(system, angle, steps, tableau, b0 * per, b1 * per, damping)
-            props = _step_propagators(nodes, coef, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
-            return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))
-        out = None
-        for s0 in range(b0 * per, b1 * per, room):
-            s1 = min(s0 + room, b1 * per)
-            nodes = grid_nodes(system, angle, steps, tableau, s0, s1, damping)
-            p = ordered_product(_step_propagators(nodes, coef, h, tableau))
-            out = p if out is None else p @ out
-        return out[None]
-
-    items = [(g, r) for g in groups for r in runs]
-    done = map_threads(task, items)
-    out = np.empty((blocks, len(speeds), n2, n2))
-    k = 0
-    for g in groups:
-        for b0, b1 in runs:
-            out[b0:b1, g[0] : g[-1] + 1] = done[k]
-            k += 1
-    return out
 
 
 def estimated_steps(system: System, speeds, angle: float, rate=None) -> np.ndarray:
