@@ -288,6 +288,7 @@ def solve(
     progress=None,
     lag_damping=None,
     sym: Symmetry | None = None,
+    compiled: bool | None = None,
 ) -> FloquetSolution:
     """Floquet exponents, multipliers and (if ``harmonics`` > 0) periodic eigenvectors.
 
@@ -316,6 +317,9 @@ def solve(
     sym : Symmetry, optional
         The symmetry to use (that of the system with its dampers, where
         ``system`` is a split one, whose blades may look more alike).
+    compiled : bool or None
+        The compiled kernel, NumPy, or the kernel where it is ready
+        (:func:`groundres.transition.use_kernel`).
     """
     speeds = np.asarray(speeds, dtype=float)
     sym = symmetry(system) if sym is None else sym
@@ -390,7 +394,9 @@ def solve(
                     )
                 n_parts = math.lcm(len(parts), k_parts) if harmonics else k_parts
                 c_j = None if damping is None else damping[idx[j] : idx[j] + 1]
-                fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau, c_j)[:, 0]
+                fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau, c_j, compiled)[
+                    :, 0
+                ]
                 z, at = lifted_eig(_group(fine, k_parts), g)
                 if np.ptp(np.log(np.abs(z))) <= LIFT_STEP:
                     break
@@ -426,6 +432,7 @@ def solve(
             rate[moving],
             least,
             None if damping is None else damping[moving],
+            compiled,
             cumulative=bool(harmonics),
         )
     orders = np.arange(-harmonics, harmonics + 1)
