@@ -32,6 +32,7 @@ against: the same grid gives the same matrices to round-off.
 
 from __future__ import annotations
 
+import functools
 import os
 import stat
 
@@ -167,8 +168,9 @@ _BACKGROUND = None
 COMPILE_TIMEOUT = 600.0
 
 
+@functools.cache
 def _key() -> str:
-    """What the compiled code depends on: numba's and Python's versions and this file."""
+    """What the compiled code depends on: numba's and Python's versions and this file (once a process)."""
     import hashlib
     import sys
     from importlib.metadata import version
