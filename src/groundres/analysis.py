@@ -130,7 +130,7 @@ class _Solver:
         mats = self._fitted(speeds)
         return modal.block_eigenvalues(*mats, self._blocks(mats), split=True)
 
-    def growth(self, speeds, lag_damping=None, neutral=True):
+    def growth(self, speeds, neutral=True):
         """Largest real part of all roots [1/s] at each speed (roots only, batched);
         without ``neutral``, of the roots that are not neutral
         (:func:`groundres.stability.largest_real_part`)."""
@@ -251,39 +251,36 @@ class _Floquet(_Solver):
     def __init__(self, system, unit=1.0, split=None, lag_damping=None):
         super().__init__(system, unit)
         # a trial lag damping of the damping search: the equations without the working
-        # dampers, shared by every trial (one set of node matrices), and the damping
+        # dampers with the family's symmetry, shared by every trial (one set of node
+        # matrices), and the damping
         self.split, self.lag_damping = split, lag_damping
 
     def with_lag_damping(self, value, in_unit=False):
         value = value if in_unit else value / self.unit
         if self.split is None:
-            self.split = self.system.lag_damping_split()
+            split = self.system.lag_damping_split()
+            # (the family's symmetry: working dampers alike and nonzero, failed ones failed)
+            self.split = (split, floquet.symmetry(split.with_lag_damping(1.0)))
         return _Floquet(self.system.with_lag_damping(value), self.unit, self.split, value)
 
-    def _solve(self, speeds, lag_damping=None, **kw):
-        """Floquet analysis at ``speeds``, with a lag damping per speed on the shared split system."""
+    def _solve(self, speeds, **kw):
+        """Floquet analysis at ``speeds`` (a trial damping: on the shared split system)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-        lag_damping = self.lag_damping if lag_damping is None else lag_damping
-        if lag_damping is None:
+        if self.lag_damping is None:
             return floquet.solve(self.system, speeds, **kw)
-        if self.split is None:
-            self.split = self.system.lag_damping_split()
-        # (the family's symmetry: working dampers alike and nonzero, failed ones failed)
-        sym = floquet.symmetry(self.split.with_lag_damping(1.0))
-        return floquet.solve(self.split, speeds, lag_damping=lag_damping, sym=sym, **kw)
+        split, sym = self.split
+        return floquet.solve(split, speeds, lag_damping=self.lag_damping, sym=sym, **kw)
 
     def roots(self, speeds):
         return self._solve(speeds, harmonics=0).exponent
 
-    def growth(self, speeds, lag_damping=None, neutral=True):
-        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`).
-
-        ``lag_damping`` (per speed, in the equations' unit) on the working dampers, if
-        given; without ``neutral``, of the roots that are not neutral
+    def growth(self, speeds, neutral=True):
+        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`);
+        without ``neutral``, of the roots that are not neutral
         (:func:`groundres.stability.largest_real_part`).
         """
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-        real = self._solve(speeds, lag_damping, harmonics=0, lift=False).exponent.real
+        real = self._solve(speeds, harmonics=0, lift=False).exponent.real
         return stability.largest_real_part(real, speeds, neutral)
 
     solved = None

@@ -173,7 +173,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
 
     def excess(lag_damping, w):
         w = np.atleast_1d(np.asarray(w, dtype=float))
-        if lag_damping not in trials:  # (one system per damping tried: its grids are reused)
+        if lag_damping not in trials:  # (one solver per damping tried, for its repeated scans)
             trials.clear()
             trials[lag_damping] = solver.with_lag_damping(lag_damping, in_unit=True)
         # (neutral roots never grow: left out, they cannot hide the peak that decides)

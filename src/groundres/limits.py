@@ -343,13 +343,14 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
 def floquet_work_per_speed(system, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Estimated work of a Floquet analysis at each speed and its steps per period (:func:`floquet_work`)."""
     from .floquet import estimated_cost
-    from .transition import DOP8, GRID_CACHE_SIZE
+    from .nodes import GRID_CACHE_SIZE, grid_values
+    from .transition import DOP8
 
     steps, rows = estimated_cost(system, speeds, lift)
     n = system.size
     # a grid too fine to keep has its coefficient matrices formed again for every
     # speed and every pass, which costs about four times the steps themselves
-    fresh = steps * len(DOP8.c) * n * n * 5 > GRID_CACHE_SIZE
+    fresh = grid_values(n, steps, len(DOP8.c)) > GRID_CACHE_SIZE
     per_step = (2 * n / _WORK_STATE) ** 2 * np.where(fresh, 5.0, 1.0)
     moving = np.asarray(speeds) > 0
     return (steps + _PER_SPEED * moving) * per_step + _EIG_PER_STEP * rows**3, steps

@@ -152,6 +152,11 @@ def node_matrices(system: System, psi) -> tuple[np.ndarray, ...]:
     return tuple(expand(node_blocks(system, psi), np.repeat(np.eye(3), 2, axis=1)[:, :5]))
 
 
+def grid_values(n: int, steps: int, stages: int, damping: bool = False) -> int:
+    """Values of a grid of node blocks (:func:`grid_nodes`) for ``n`` coordinates."""
+    return steps * stages * n * n * (6 if damping else 5)
+
+
 def grid_nodes(
     system: System,
     angle: float,
@@ -169,8 +174,7 @@ def grid_nodes(
     """
     last = steps if last is None else last
     h = angle / steps
-    n = system.size
-    size = steps * len(tableau.c) * n * n * (6 if damping else 5)
+    size = grid_values(system.size, steps, len(tableau.c), damping)
     if size > GRID_CACHE_SIZE:
         return node_blocks(system, (np.arange(first, last)[:, None] + tableau.c[None, :]) * h, damping)
     cache = system.grid_cache
@@ -202,7 +206,8 @@ def node_coefficients(speeds, lag_damping=None) -> np.ndarray:
 def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
     """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
 
-    With ``lag_damping`` (per speed) the system is a split one (:func:`transition`).
+    With ``lag_damping`` (per speed) the system is a split one
+    (:meth:`groundres.system.System.lag_damping_split`).
     """
     speeds = np.asarray(speeds, dtype=float)
     psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)

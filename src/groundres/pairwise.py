@@ -67,6 +67,21 @@ def _step_propagators(nodes, coef, h, tableau):
     return out
 
 
+def plan_runs(steps: int, blocks: int, room: int) -> list:
+    """Runs of at most ``room`` steps of a grid of ``steps`` split into ``blocks`` equal parts:
+    [(first part, last part, [(first step, last step), ...])], whole parts where they
+    are short, a long part in several pieces (to be multiplied together)."""
+    room = max(1, int(room))
+    per = steps // blocks
+    if per <= room:
+        k = max(1, room // per)
+        return [(b, min(b + k, blocks), [(b * per, min(b + k, blocks) * per)]) for b in range(0, blocks, k)]
+    return [
+        (b, b + 1, [(s0, min(s0 + room, (b + 1) * per)) for s0 in range(b * per, (b + 1) * per, room)])
+        for b in range(blocks)
+    ]
+
+
 def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, lag_damping):
     """:func:`groundres.transition.transition` by NumPy: every step's propagator formed
     at once, then their product.
@@ -83,24 +98,19 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, l
     n2 = 2 * n
     per = steps // blocks
     width = min(len(speeds), -(-len(speeds) // CORES))  # at least one batch per core
-    room = max(1, int(STAGE_BUDGET // (len(tableau.c) * n * n2 * width)))  # steps per task
+    room = STAGE_BUDGET // (len(tableau.c) * n * n2 * width)  # steps per task
     groups = [np.arange(i, min(i + width, len(speeds))) for i in range(0, len(speeds), width)]
-    if per <= room:
-        k = max(1, room // per)
-        runs = [(b, min(b + k, blocks)) for b in range(0, blocks, k)]
-    else:
-        runs = [(b, b + 1) for b in range(blocks)]
+    runs = plan_runs(steps, blocks, room)
 
     def task(item):
-        sel, (b0, b1) = item
+        sel, (b0, b1, pieces) = item
         coef = coef_all[sel]
-        if per <= room:
-            nodes = grid_nodes(system, angle, steps, tableau, b0 * per, b1 * per, damping)
+        if len(pieces) == 1:
+            nodes = grid_nodes(system, angle, steps, tableau, *pieces[0], damping)
             props = _step_propagators(nodes, coef, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
             return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))
         out = None
-        for s0 in range(b0 * per, b1 * per, room):
-            s1 = min(s0 + room, b1 * per)
+        for s0, s1 in pieces:
             nodes = grid_nodes(system, angle, steps, tableau, s0, s1, damping)
             p = ordered_product(_step_propagators(nodes, coef, h, tableau))
             out = p if out is None else p @ out
@@ -111,7 +121,7 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, l
     out = np.empty((blocks, len(speeds), n2, n2))
     k = 0
     for g in groups:
-        for b0, b1 in runs:
+        for b0, b1, _ in runs:
             out[b0:b1, g[0] : g[-1] + 1] = done[k]
             k += 1
     return out

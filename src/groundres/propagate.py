@@ -20,9 +20,9 @@ NumPy's per-call overhead dominates for matrices of 10-40 states, so the
 loops are compiled with numba, released from the GIL and run over batches of
 speeds on groundres' thread pool (:mod:`groundres.parallel`). Compiled code is
 cached by numba in ``$XDG_CACHE_HOME/groundres/numba`` (``~/.cache`` by
-default) only where that folder and its parents belong to the user (or root)
-and no one else may write there. Compiling takes several seconds, more than a
-whole run: the first use on a machine starts it in a background process
+default) only where no other account may write there (:func:`cache_folder`).
+Compiling takes several seconds, more than a whole run: the first use on a
+machine starts it in a background process
 (:func:`kernel`) and goes on with the NumPy path (the step propagators formed
 at once, step counts from a Richardson estimate: as fast as before the kernel
 existed, and within the same tolerance); later runs load the compiled code

@@ -80,9 +80,7 @@ def zoom_max(fun, lo: float, hi: float, xtol: float, points: int = 9, rounds: in
     return zoom_many(fun, [(lo, hi)], xtol, points, rounds)[0]
 
 
-def zoom_many(
-    fun, spans, xtol: float, points: int = 9, rounds: int = 40, flat=None
-) -> list[tuple[float, float]]:
+def zoom_many(fun, spans, xtol: float, points: int = 9, rounds: int = 40) -> list[tuple[float, float]]:
     """Largest value of ``fun`` on each bracket [lo, hi] of ``spans`` and where: [(value, speed)].
 
     In each bracket: evaluates ``points`` speeds, keeps the neighbourhood of

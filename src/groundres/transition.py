@@ -37,11 +37,12 @@ from .nodes import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrice
     frozen_rates,
     frozen_roots,
     grid_nodes,
+    grid_values,
     node_coefficients,
     node_matrices,
     rates_per_radian,
 )
-from .pairwise import ordered_product, transition_pairwise
+from .pairwise import ordered_product, plan_runs, transition_pairwise
 from .system import System
 from .tableau import BUTCHER6, DOP8, Tableau  # noqa: F401  (for callers)
 
@@ -142,21 +143,6 @@ def prefix_products(parts):
     return out
 
 
-def _pieces(system: System, steps: int, blocks: int, sets: int, stages: int):
-    """Runs of steps evaluated at once, each within GRID_CACHE_SIZE node values:
-    [(first part, last part, [(first step, last step), ...])] (several runs for one part where it is long)."""
-    n = system.size
-    room = max(1, GRID_CACHE_SIZE // (stages * n * 2 * n * sets))  # steps per run
-    per = steps // blocks
-    if per <= room:
-        k = max(1, room // per)
-        return [(b, min(b + k, blocks), [(b * per, min(b + k, blocks) * per)]) for b in range(0, blocks, k)]
-    return [
-        (b, b + 1, [(s0, min(s0 + room, (b + 1) * per)) for s0 in range(b * per, (b + 1) * per, room)])
-        for b in range(blocks)
-    ]
-
-
 def transition_estimated(
     system: System, speeds, angle: float, steps: int, blocks: int = 1, lag_damping=None, cumulative=False
 ):
@@ -181,7 +167,8 @@ def transition_estimated(
     out = np.empty((blocks, len(speeds), m, m))
     error = np.zeros(len(speeds))
     before = None  # (cumulative) the transition matrix up to the run's start
-    for b0, b1, runs in _pieces(system, steps, blocks, coef.shape[1], len(DOP8.c)):
+    room = GRID_CACHE_SIZE // grid_values(system.size, 1, len(DOP8.c), damping)  # steps a run
+    for b0, b1, runs in plan_runs(steps, blocks, room):
         acc = None
         for s0, s1 in runs:
             nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, damping)
