@@ -137,6 +137,10 @@ class _Solver:
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         return stability.largest_real_part(np.concatenate(self._scan_roots(speeds), -1).real, speeds, neutral)
 
+    #: ``rough_growth(speeds, neutral) -> (value, upper)``: a cheaper :meth:`growth` for
+    #: scans, with an upper bound of the true value (None: growth is cheap enough).
+    rough_growth = None
+
     def closeness(self, speeds):
         """Nearest approach of two roots of one block (:func:`groundres.modal.closest_pair`)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
@@ -282,6 +286,19 @@ class _Floquet(_Solver):
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         real = self._solve(speeds, harmonics=0, lift=False).exponent.real
         return stability.largest_real_part(real, speeds, neutral)
+
+    def rough_growth(self, speeds, neutral=True):
+        """:meth:`growth` at the scan's loose tolerance (:data:`groundres.floquet.SCAN_TOLERANCE`)
+        and an upper bound of the true value given that tolerance: (value, upper) [1/s].
+        For scans that only look where to evaluate :meth:`growth` (:class:`groundres.scan.PeakWatch`).
+        """
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        fs = self._solve(speeds, harmonics=0, lift=False, tolerance=floquet.SCAN_TOLERANCE, bounds=True)
+        real = fs.exponent.real
+        return (
+            stability.largest_real_part(real, speeds, neutral),
+            stability.largest_real_part(real, speeds, neutral, upper=fs.real_upper),
+        )
 
     solved = None
 

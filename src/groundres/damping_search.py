@@ -171,13 +171,22 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
 
     trials = {}
 
-    def excess(lag_damping, w):
-        w = np.atleast_1d(np.asarray(w, dtype=float))
+    def trial(lag_damping):
         if lag_damping not in trials:  # (one solver per damping tried, for its repeated scans)
             trials.clear()
             trials[lag_damping] = solver.with_lag_damping(lag_damping, in_unit=True)
+        return trials[lag_damping]
+
+    def excess(lag_damping, w):
+        w = np.atleast_1d(np.asarray(w, dtype=float))
         # (neutral roots never grow: left out, they cannot hide the peak that decides)
-        return trials[lag_damping].growth(w, neutral=False) - stability.growth_threshold(w)
+        return trial(lag_damping).growth(w, neutral=False) - stability.growth_threshold(w)
+
+    def rough(lag_damping, w):  # (scans look with it; excess decides)
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        value, upper = trial(lag_damping).rough_growth(w, neutral=False)
+        threshold = stability.growth_threshold(w)
+        return value - threshold, upper - threshold
 
     value = minimum_lag_damping(
         excess,
@@ -188,12 +197,13 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         anchor=anchor,
         seeds=assessed.peak_speeds,
         kind=solver.kind,
+        rough=None if solver.rough_growth is None else rough,
     )
     with np.errstate(over="ignore"):
         return (None, ("cap", cap * unit)) if value is None else (value * unit, None)
 
 
-def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen"):
+def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen", rough=None):
     """Smallest lag damping that makes the sweep stable, by bisection.
 
     Parameters
@@ -223,13 +233,17 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
         confirms the result; if it finds another peak, the bisection goes on
         between there and the smallest damping shown stable (the last of four
         rounds confirming every verdict).
+    rough : callable, optional
+        ``rough(lag_damping, speeds) -> (values, upper)``: ``excess`` at a
+        looser accuracy and an upper bound of it, for the scans to look with
+        (:class:`groundres.scan.PeakWatch`); every verdict is ``excess``'s.
 
     Returns
     -------
     float or None
         0.0 if stable without lag damping; None if even ``cap`` is unstable.
     """
-    watch = scan.PeakWatch(excess, grid, kind, seeds)
+    watch = scan.PeakWatch(excess, grid, kind, seeds, rough=rough)
     eager = kind == "eigen"
     proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
 

@@ -102,7 +102,9 @@ class _Harmonics:
         if nb == 0:
             return at(self.g, scale=sign)
         basis4 = _harmonic_basis(psi, 4).reshape(-1, 9)
-        xb = np.linalg.solve(at(self.s, basis4), at(self.e, basis4, sign))  # (..., nb, W)
+        # (S is the body's small, well-conditioned mass matrix with the blades' share:
+        # its inverse applied is several times faster than a batched solve with W columns)
+        xb = np.linalg.inv(at(self.s, basis4)) @ at(self.e, basis4, sign)  # (..., nb, W)
         out = np.empty(psi.shape + (self.n, self.g.shape[-1]))
         out[..., :nb, :] = xb
         out[..., nb:, :] = at(self.g, scale=sign)  # G - H xb

@@ -92,16 +92,32 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # prag
     out : (n_s, parts, m, m) written; err : (n_s,) written: the sum over the
     steps of the embedded estimate of each step's error, relative to
     max(1, |Phi|).
+
+    The stages are kept flat, (stages, m m), so that a stage's value
+    Phi + h sum_j a_ij K_j, the step's update and its two error estimates
+    are each one BLAS product (numba calls SciPy's BLAS for ``np.dot``), as
+    is the stage's product F Y; only F's assembly from its blocks is looped.
     """
     steps, stages, n, width = nodes.shape
     m = 2 * n
+    mm = m * m
     n_b = width // n
     n_s, parts = out.shape[0], out.shape[1]
     per = steps // parts
-    k = np.empty((stages, m, m))
+    k = np.empty((stages, mm))
     y = np.empty((m, m))
+    y_flat = y.reshape(mm)
     f = np.empty((n, m))
+    fy = np.empty((n, m))
     phi = np.empty((m, m))
+    phi_flat = phi.reshape(mm)
+    ha = h * a
+    weights = np.empty((3, stages))  # the step's update, the fifth- and third-order estimates
+    for i in range(stages):
+        weights[0, i] = h * b[i]
+        weights[1, i] = e5[i]
+        weights[2, i] = e3[i]
+    combined = np.empty((3, mm))
     for s in range(n_s):
         total = 0.0
         for part in range(parts):
@@ -111,9 +127,8 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # prag
                     phi[i, i] = 1.0
             for t in range(part * per, (part + 1) * per):
                 size = 1.0
-                for r in range(m):
-                    for c in range(m):
-                        size = max(size, abs(phi[r, c]))
+                for r in range(mm):
+                    size = max(size, abs(phi_flat[r]))
                 for i in range(stages):
                     f[:, :] = 0.0
                     for blk in range(n_b):
@@ -123,36 +138,24 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # prag
                             for r in range(n):
                                 for c in range(n):
                                     f[r, col + c] += w * nodes[t, i, r, blk * n + c]
-                    y[:, :] = phi
-                    for j in range(i):
-                        w = h * a[i, j]
-                        if w != 0.0:
-                            for r in range(m):
-                                for c in range(m):
-                                    y[r, c] += w * k[j, r, c]
-                    for r in range(n):
+                    if i > 0:
+                        np.dot(ha[i, :i], k[:i], y_flat)
+                        for r in range(mm):
+                            y_flat[r] += phi_flat[r]
+                    else:
+                        y_flat[:] = phi_flat
+                    np.dot(f, y, fy)
+                    for r in range(n):  # K_i = [Y_v; F Y]
                         for c in range(m):
-                            k[i, r, c] = y[n + r, c]
-                            k[i, n + r, c] = 0.0
-                        for q in range(m):
-                            fq = f[r, q]
-                            if fq != 0.0:
-                                for c in range(m):
-                                    k[i, n + r, c] += fq * y[q, c]
+                            k[i, r * m + c] = y[n + r, c]
+                            k[i, (n + r) * m + c] = fy[r, c]
+                np.dot(weights, k, combined)
                 big5 = 0.0
                 big3 = 0.0
-                for r in range(m):
-                    for c in range(m):
-                        d5 = 0.0
-                        d3 = 0.0
-                        step = 0.0
-                        for i in range(stages):
-                            d5 += e5[i] * k[i, r, c]
-                            d3 += e3[i] * k[i, r, c]
-                            step += b[i] * k[i, r, c]
-                        phi[r, c] += h * step
-                        big5 = max(big5, abs(d5))
-                        big3 = max(big3, abs(d3))
+                for r in range(mm):
+                    phi_flat[r] += combined[0, r]
+                    big5 = max(big5, abs(combined[1, r]))
+                    big3 = max(big3, abs(combined[2, r]))
                 big5 *= h / size
                 big3 *= h / size
                 if big5 > 0.0:

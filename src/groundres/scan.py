@@ -80,7 +80,9 @@ def zoom_max(fun, lo: float, hi: float, xtol: float, points: int = 9, rounds: in
     return zoom_many(fun, [(lo, hi)], xtol, points, rounds)[0]
 
 
-def zoom_many(fun, spans, xtol: float, points: int = 9, rounds: int = 40) -> list[tuple[float, float]]:
+def zoom_many(
+    fun, spans, xtol: float, points: int = 9, rounds: int = 40, rough=None
+) -> list[tuple[float, float]]:
     """Largest value of ``fun`` on each bracket [lo, hi] of ``spans`` and where: [(value, speed)].
 
     In each bracket: evaluates ``points`` speeds, keeps the neighbourhood of
@@ -89,7 +91,13 @@ def zoom_many(fun, spans, xtol: float, points: int = 9, rounds: int = 40) -> lis
     through the best three gives the peak, kept if it is higher. Where the
     best of a round is an end of the bracket itself, that end is the answer.
     The brackets advance together: one call of ``fun`` per round for all.
+
+    With ``rough`` (``rough(speeds) -> values``: ``fun`` at a looser accuracy,
+    cheaper), the rounds look with it and ``fun`` is evaluated once, at the
+    point each bracket ends on and at its parabola's vertex (one call for
+    all): every value returned is ``fun``'s.
     """
+    look = fun if rough is None else rough
     # lo, hi, best, at, open, and the bracket's own ends
     state = [[float(lo), float(hi), -np.inf, float(lo), True, float(lo), float(hi)] for lo, hi in spans]
     vertex = []  # (bracket, speed) of the final parabolas
@@ -98,7 +106,7 @@ def zoom_many(fun, spans, xtol: float, points: int = 9, rounds: int = 40) -> lis
         if not active:
             break
         w = np.concatenate([np.linspace(st[0], st[1], points) for st in active])
-        v = np.asarray(fun(w), dtype=float).reshape(len(active), points)
+        v = np.asarray(look(w), dtype=float).reshape(len(active), points)
         w = w.reshape(len(active), points)
         for st, wk, vk in zip(active, w, v):
             i = int(np.argmax(vk))
@@ -116,7 +124,15 @@ def zoom_many(fun, spans, xtol: float, points: int = 9, rounds: int = 40) -> lis
                         vertex.append((st, wk[i] + 0.5 * step * (vk[i - 1] - vk[i + 1]) / denom))
                 continue
             st[0], st[1] = max(st[0], st[3] - step), min(st[1], st[3] + step)
-    if vertex:
+    if rough is not None:  # the values at fun's accuracy: where each ended, and its vertex
+        ends = [(st, st[3]) for st in state]
+        values = np.asarray(fun(np.array([x for _, x in ends + vertex])), dtype=float)
+        for st in state:
+            st[2] = -np.inf
+        for (st, x), vx in zip(ends + vertex, values):
+            if vx > st[2]:
+                st[2], st[3] = float(vx), float(x)
+    elif vertex:
         values = np.asarray(fun(np.array([x for _, x in vertex])), dtype=float)
         for (st, x), vx in zip(vertex, values):
             if vx > st[2]:
@@ -145,10 +161,15 @@ class PeakWatch:
     parameter (the next lag damping of a search) looks there first: the
     worst speed moves little from one damping to the next, and only a full
     scan can show that no peak is positive.
+
+    With ``rough`` (``rough(parameter, speeds) -> (values, upper)``: ``fun``
+    at a looser accuracy and an upper bound of ``fun`` given it), scans and
+    refinements look with it, and ``fun`` decides: at the refined peaks, and
+    at every grid speed whose bound does not rule out a positive value.
     """
 
-    def __init__(self, fun, grid, kind, seeds=(), peaks=None):
-        self.fun, self.grid, self.kind = fun, np.asarray(grid, float), kind
+    def __init__(self, fun, grid, kind, seeds=(), peaks=None, rough=None):
+        self.fun, self.grid, self.kind, self.rough = fun, np.asarray(grid, float), kind, rough
         self.xtol = PEAK_XTOL[kind]
         self.peaks = peaks or (8 if kind == "eigen" else 3)
         self.brackets = [self._around(w) for w in seeds]
@@ -166,7 +187,10 @@ class PeakWatch:
         an end of the bracket (the peak left it, or another root rose above it
         there): refining it again cannot help, and its last peak is kept, where
         the mode that peaked there is looked at again. Returns the refined values."""
-        found = zoom_many(lambda w: self.fun(p, w), [(span[0], span[1]) for span in spans], self.xtol)
+        rough = None if self.rough is None else (lambda w: self.rough(p, w)[0])
+        found = zoom_many(
+            lambda w: self.fun(p, w), [(span[0], span[1]) for span in spans], self.xtol, rough=rough
+        )
         for span, (_, at) in zip(spans, found):
             span[3] = min(at - span[0], span[1] - at) <= self.xtol * abs(span[1])
             if not span[3]:
@@ -195,20 +219,34 @@ class PeakWatch:
         """Largest value from a full scan; the scan's peaks are watched from now on.
 
         The highest local maximum is refined, and the others where they could
-        rise above zero by four times what refining gained on it.
+        rise above zero by four times what refining gained on it. A rough
+        scan's value counts only where ``fun`` confirms it: the grid speeds
+        that its bound leaves possibly positive are evaluated again.
         """
         self.scanned = p
-        values = np.asarray(self.fun(p, self.grid), float)
-        best, gain, spans = float(values.max()), None, []
+        if self.rough is None:
+            values = upper = np.asarray(self.fun(p, self.grid), float)
+            best = float(values.max())
+        else:
+            values, upper = (np.asarray(v, float) for v in self.rough(p, self.grid))
+            best = -np.inf
+        gain, spans, refined = None, [], []
         for i in local_maxima(values, self.peaks):
             lo, hi = bracket(self.grid, i)
             span = [lo, hi, self.grid[i], False]
-            if hi > lo and (gain is None or values[i] + 4 * gain > 0):
+            if hi > lo and (gain is None or upper[i] + 4 * gain > 0):
                 (top,) = self._refine(p, [span])
                 best = max(best, top)
                 gain = max(gain or 0.0, top - values[i])
+                refined.append(i)
             if all(abs(span[2] - t[2]) > 4 * self.xtol * abs(t[2]) for t in spans):
                 spans.append(span)
+        if self.rough is not None:
+            doubt = np.setdiff1d(np.flatnonzero(upper > 0), refined)
+            if not refined:  # (no bracket to refine: the grid's best decides)
+                doubt = np.union1d(doubt, [int(np.argmax(values))])
+            if len(doubt):
+                best = max(best, float(np.max(self.fun(p, self.grid[doubt]))))
         kept = [b for b in self.brackets if all(abs(b[2] - s[2]) > 4 * self.xtol * abs(s[2]) for s in spans)]
         self.brackets = (spans + kept)[: 2 * self.peaks]
         return best

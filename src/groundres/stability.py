@@ -44,20 +44,23 @@ def is_neutral(real_part, speeds):
 NEUTRAL_BAND = 1e-3
 
 
-def largest_real_part(real, speeds, neutral: bool = True) -> np.ndarray:
+def largest_real_part(real, speeds, neutral: bool = True, upper=None) -> np.ndarray:
     """Largest of real parts (n_s, k) [1/s] at each speed; without ``neutral``, over the
     roots not within :data:`NEUTRAL_BAND` of the growth threshold of zero (0 if none).
 
     A neutral root never grows, so leaving it out changes no verdict, but it
     would flatten the largest real part where every other root decays and hide
     the peak of the mode that decides (the damping search follows that peak).
+    With ``upper`` (n_s, k), upper bounds of the real parts, the largest of
+    those over the same roots.
     """
     real = np.asarray(real, dtype=float)
+    value = real if upper is None else np.asarray(upper, dtype=float)
     if neutral:
-        return real.max(-1)
+        return value.max(-1)
     band = NEUTRAL_BAND * growth_threshold(speeds)[:, None]
-    masked = np.where(np.abs(real) <= band, -np.inf, real).max(-1)
-    return np.where(np.isfinite(masked), masked, 0.0)
+    masked = np.where(np.abs(real) <= band, -np.inf, value).max(-1)
+    return np.where(np.isfinite(masked) | (masked > 0), masked, 0.0)
 
 
 @dataclass(frozen=True)

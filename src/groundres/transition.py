@@ -180,18 +180,19 @@ def transition_estimated(
     return out, error
 
 
-def estimated_steps(system: System, speeds, angle: float, rate=None) -> np.ndarray:
+def estimated_steps(system: System, speeds, angle: float, rate=None, tolerance=TOLERANCE) -> np.ndarray:
     """Steps over [0, angle] the step control will settle on at each speed, estimated (n_s,).
 
     The error of an order-p method over S steps of an interval spanning
     angle * rate radians of the fastest motion goes as S (angle rate / S)^(p+1),
-    so S ~ (angle rate)^((p+1)/p); the factor is fitted to DOP8 at
-    :data:`TOLERANCE` with the embedded estimate (the compiled path) on the
-    shipped and benchmark cases: the steps settled on lie within a factor
-    0.6 to 2 of it, 1 at the median.
+    so S ~ (angle rate)^((p+1)/p) tolerance^(-1/p); the factor is fitted to
+    DOP8 at :data:`TOLERANCE` with the embedded estimate (the compiled path)
+    on the shipped and benchmark cases: the steps settled on lie within a
+    factor 0.6 to 2 of it, 1 at the median.
     """
     rate = (rates_per_radian(system, speeds) if rate is None else rate) + HARMONIC_RATE
-    return np.maximum(LEAST_STEPS, STEPS_FACTOR * (angle * rate) ** (9 / 8))
+    loose = (TOLERANCE / tolerance) ** (1 / ESTIMATE_ORDER)
+    return np.maximum(LEAST_STEPS, STEPS_FACTOR * loose * (angle * rate) ** (9 / 8))
 
 
 def divisor_at_least(count: int, need: int) -> int:
@@ -282,9 +283,11 @@ def integrate(
         interval is split for the speeds ``indices`` integrated with ``steps``
         (a divisor of ``steps``); 1 by default.
     accept : callable, optional
-        ``accept(indices, phi, parts, steps)`` is called once for every speed
-        with its final result: ``phi`` (k, 2n, 2n) over the interval, ``parts``
-        (blocks, k, 2n, 2n) over its parts.
+        ``accept(indices, phi, parts, steps, error)`` is called once for every
+        speed with its final result: ``phi`` (k, 2n, 2n) over the interval,
+        ``parts`` (blocks, k, 2n, 2n) over its parts, ``error`` (k,) the
+        estimate of the largest error of an entry of ``phi``, relative to
+        max(1, |phi|) (embedded, or Richardson's).
     rate : ndarray, optional
         Fastest rate per radian at each speed, if known (:func:`rates_per_radian`).
     least : ndarray, optional
@@ -306,7 +309,7 @@ def integrate(
     embedded = use_kernel(tableau, compiled)
     ladder_ = compiled_ladder() if embedded else ladder(BASE_STEPS)
     rate = rates_per_radian(system, speeds, lag_damping=lag_damping) if rate is None else rate
-    need = estimated_steps(system, speeds, angle, rate)
+    need = estimated_steps(system, speeds, angle, rate, tolerance)
     if need.max() > MAX_STEPS:  # refused before any work: the ladder would climb to its top in vain
         i = int(np.argmax(need))
         raise SpeedRangeError(
@@ -366,6 +369,6 @@ def integrate(
                     done.append(j)
             if accept is not None and done:
                 done = np.array(done)
-                accept(sel[done], fine_phi[done], parts[:, done], int(count))
+                accept(sel[done], fine_phi[done], parts[:, done], int(count), estimate[done])
         pending = np.array(sorted(retry), int)
     return phi, steps
