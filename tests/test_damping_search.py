@@ -70,3 +70,63 @@ def test_no_damping_helps_a_failed_damper_and_the_search_says_so():
     why, cap = result.no_exact_lag_damping
     assert why == "cap" and cap > 10 * 4067.5
     assert brute_force_excess(c, cap) > 0
+
+
+@pytest.mark.parametrize("name", ["hammond-1974-one-damper", "soft-inplane-pitch-roll", "two-bladed"])
+def test_a_rough_scan_bounds_the_growth_at_full_tolerance(name):
+    """The damping search's scans look at SCAN_TOLERANCE; the bound they carry must hold
+    the largest real part at the full tolerance (which decides), and be honest about
+    the rough value's own error."""
+    from groundres.analysis import _Floquet
+
+    c = case(name)
+    system, unit = limits.system_in_mass_unit(c.rotor, c.body)
+    solver = _Floquet(system, unit)
+    w = np.linspace(c.sweep.speeds[1], c.sweep.speeds[-1], 24)
+    for neutral in (True, False):
+        value, lower, upper = solver.rough_growth(w, neutral)
+        exact = solver.growth(w, neutral)
+        assert np.all((lower <= exact) & (exact <= upper))
+        assert np.all(np.abs(value - exact) <= np.minimum(upper - value, value - lower))
+    rough = floquet.solve(system, w, harmonics=0, lift=False, tolerance=floquet.SCAN_TOLERANCE)
+    full = floquet.solve(system, w, harmonics=0, lift=False)
+    assert np.all(rough.steps <= full.steps)  # (the fewest steps allowed serve most speeds of both)
+
+
+def test_zoom_with_a_rough_look_returns_values_of_the_exact_function():
+    from groundres.scan import zoom_many
+
+    def exact(w):
+        return -np.minimum((w - 3.1) ** 2, 0.5 * (w - 7.3) ** 2)
+
+    def rough(w):  # (exact with an error far below the peaks' curvature over the bracket)
+        return exact(w) + 1e-9 * np.sin(977.0 * w)
+
+    found = zoom_many(exact, [(1.0, 5.0), (6.0, 9.0)], 1e-6, rough=rough)
+    for (value, at), peak in zip(found, (3.1, 7.3)):
+        assert value == exact(np.array([at]))[0]
+        assert abs(at - peak) < 1e-3
+
+
+def test_peak_watch_with_a_rough_look_reaches_the_same_verdicts():
+    """Two peaks over speed, one rising with the parameter faster than the other; a
+    rough look with a bounded error must give every full scan's verdict unchanged."""
+    from groundres.scan import PeakWatch
+
+    def fun(p, w):
+        w = np.asarray(w, float)
+        return np.maximum(0.3 * p - 1 - 4 * (w - 2.0) ** 2, p - 2 - 9 * (w - 5.37) ** 2)
+
+    def rough(p, w):
+        err = 1e-4 * np.cos(31.0 * np.asarray(w, float))
+        return fun(p, w) + err, fun(p, w) + err - 2e-4, fun(p, w) + err + 2e-4
+
+    grid = np.linspace(0.5, 8.0, 16)
+    plain_watch, rough_watch = PeakWatch(fun, grid, "floquet"), PeakWatch(fun, grid, "floquet", rough=rough)
+    for p in np.linspace(0.0, 4.0, 41):
+        plain = PeakWatch(fun, grid, "floquet").full(p)
+        looked = PeakWatch(fun, grid, "floquet", rough=rough).full(p)
+        assert (plain > 0) == (looked > 0), p
+        # and the watched peaks of a scan at the previous parameter
+        assert (plain_watch.watched(p) > 0) == (rough_watch.watched(p) > 0), p
+        plain_watch.full(p), rough_watch.full(p)

@@ -137,8 +137,8 @@ class _Solver:
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         return stability.largest_real_part(np.concatenate(self._scan_roots(speeds), -1).real, speeds, neutral)
 
-    #: ``rough_growth(speeds, neutral) -> (value, upper)``: a cheaper :meth:`growth` for
-    #: scans, with an upper bound of the true value (None: growth is cheap enough).
+    #: ``rough_growth(speeds, neutral) -> (value, lower, upper)``: a cheaper :meth:`growth`
+    #: for scans, with bounds of the true value (None: growth is cheap enough).
     rough_growth = None
 
     def closeness(self, speeds):
@@ -289,15 +289,15 @@ class _Floquet(_Solver):
 
     def rough_growth(self, speeds, neutral=True):
         """:meth:`growth` at the scan's loose tolerance (:data:`groundres.floquet.SCAN_TOLERANCE`)
-        and an upper bound of the true value given that tolerance: (value, upper) [1/s].
+        and bounds of the true value given that tolerance: (value, lower, upper) [1/s].
         For scans that only look where to evaluate :meth:`growth` (:class:`groundres.scan.PeakWatch`).
         """
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         fs = self._solve(speeds, harmonics=0, lift=False, tolerance=floquet.SCAN_TOLERANCE, bounds=True)
         real = fs.exponent.real
-        return (
-            stability.largest_real_part(real, speeds, neutral),
-            stability.largest_real_part(real, speeds, neutral, upper=fs.real_upper),
+        return tuple(
+            stability.largest_real_part(real, speeds, neutral, bound)
+            for bound in (None, fs.real_lower, fs.real_upper)
         )
 
     solved = None
@@ -453,6 +453,7 @@ def analyze(
         solver.kind,
         closeness=solver.closeness,
         floor=limits.lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
+        rough_growth=solver.rough_growth,
     )
     report("range ends", 1, 1)
     accuracy = {

@@ -184,9 +184,8 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
 
     def rough(lag_damping, w):  # (scans look with it; excess decides)
         w = np.atleast_1d(np.asarray(w, dtype=float))
-        value, upper = trial(lag_damping).rough_growth(w, neutral=False)
         threshold = stability.growth_threshold(w)
-        return value - threshold, upper - threshold
+        return tuple(v - threshold for v in trial(lag_damping).rough_growth(w, neutral=False))
 
     value = minimum_lag_damping(
         excess,
@@ -234,8 +233,8 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
         between there and the smallest damping shown stable (the last of four
         rounds confirming every verdict).
     rough : callable, optional
-        ``rough(lag_damping, speeds) -> (values, upper)``: ``excess`` at a
-        looser accuracy and an upper bound of it, for the scans to look with
+        ``rough(lag_damping, speeds) -> (values, lower, upper)``: ``excess``
+        at a looser accuracy and bounds of it, for the scans to look with
         (:class:`groundres.scan.PeakWatch`); every verdict is ``excess``'s.
 
     Returns

@@ -153,13 +153,13 @@ class FloquetSolution:
         The multipliers with their moduli compressed (no underflow), for
         telling conjugate pairs: conjugate exponents (modulo the period's
         frequency) have conjugate keys.
-    real_upper : ndarray (n_s, 2n) or None
-        (with ``bounds``) An upper bound of each exponent's real part [1/s]
-        given the integration's error: ln(|rho| + kappa ||dPhi||) / T, with
-        kappa the multiplier's condition number and ||dPhi|| <= 2n e
-        max(1, |Phi|) from the error estimate e of an entry (first order in
-        dPhi; the estimate itself overstates the error, 7 to 5000 times on the
-        embedded estimate's calibration cases); +inf for a lifted speed.
+    real_lower, real_upper : ndarray (n_s, 2n) or None
+        (with ``bounds``) Bounds of each exponent's real part [1/s] given the
+        integration's error: ln(|rho| -+ kappa ||dPhi||) / T, with kappa the
+        multiplier's condition number and ||dPhi|| <= 2n e max(1, |Phi|) from
+        the error estimate e of an entry (first order in dPhi; the estimate
+        itself overstates the error, 7 to 5000 times on the embedded
+        estimate's calibration cases); -inf and +inf for a lifted speed.
 
     At Omega = 0 the exponents are the roots of the system at rest, the
     vectors its eigenvectors in [q; dq/dt] and the multipliers exp(lambda T)
@@ -177,6 +177,7 @@ class FloquetSolution:
     speeds: np.ndarray
     lifted: np.ndarray
     key: np.ndarray
+    real_lower: np.ndarray | None = None
     real_upper: np.ndarray | None = None
 
 
@@ -338,7 +339,7 @@ def solve(
         (:func:`groundres.transition.use_kernel`).
     bounds : bool
         Also bound each exponent's real part from the integration's error
-        (:attr:`FloquetSolution.real_upper`), for a scan at a loose
+        (:attr:`FloquetSolution.real_upper`, ``real_lower``), for a scan at a loose
         ``tolerance`` (:data:`SCAN_TOLERANCE`).
     """
     speeds = np.asarray(speeds, dtype=float)
@@ -355,7 +356,7 @@ def solve(
     out_h = np.zeros((n_s, n, 2 * harmonics + 1, m), complex) if harmonics else None
     steps = np.zeros(n_s, int)
     lifted = np.zeros(n_s, bool)
-    upper = np.zeros((n_s, m)) if bounds else None
+    lower, upper = (np.zeros((n_s, m)), np.zeros((n_s, m))) if bounds else (None, None)
     weights = system.kinetic_weights(speeds) if harmonics else None
     moving = np.flatnonzero(speeds > 0)
     still = np.flatnonzero(speeds <= 0)
@@ -369,7 +370,7 @@ def solve(
         lam, x = np.linalg.eig(state_matrix(mass, damp, stiff))
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)
         if bounds:
-            upper[still] = lam.real
+            lower[still] = upper[still] = lam.real
         key[still] = _pairing_key(lam, np.full(len(still), period))
         if harmonics:
             q = system.to_multiblade(x[None, :, :n, :], np.zeros(1))[0]
@@ -399,7 +400,7 @@ def solve(
         rho, vec = np.linalg.eig(g.T @ phi)
         rho, vec = rho.astype(complex), vec.astype(complex)
         if bounds:
-            upper[idx] = _real_upper(rho, vec, phi, error, dt)
+            lower[idx], upper[idx] = _real_bounds(rho, vec, phi, error, dt)
         size = np.log(np.maximum(np.abs(rho), 1e-300))
         lam = size / dt[:, None] + 1j * np.angle(rho) / dt[:, None]
         # decades spanned over the period: seen in the multipliers (which round-off
@@ -430,7 +431,7 @@ def solve(
             rho[j], vec[j] = z**k_parts, at[0]
             lifted[idx[j]] = True
             if bounds:
-                upper[idx[j]] = np.inf
+                lower[idx[j]], upper[idx[j]] = -np.inf, np.inf
             if harmonics:
                 one = _periodic_samples(fine[:, None], at[:, None], lam[j][None], dt[j : j + 1] / n_parts)
                 samples[:, j] = one[:: n_parts // len(parts), 0, :n]  # the batch's sample count
@@ -464,19 +465,19 @@ def solve(
         )
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(
-        exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key, upper
+        exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key, lower, upper
     )
 
 
-def _real_upper(rho, vec, phi, error, dt):
-    """Upper bounds of the exponents' real parts [1/s] given the transition matrices' error.
+def _real_bounds(rho, vec, phi, error, dt):
+    """Lower and upper bounds of the exponents' real parts [1/s] given the transition matrices' error.
 
     rho, vec : (k, m), (k, m, m) multipliers and eigenvectors; phi : (k, m, m);
     error : (k,) estimated error of an entry relative to max(1, |phi|); dt (k,).
     A multiplier moves by at most kappa ||dPhi||_2 to first order (kappa =
     |w| |v| / |w^H v|, the left eigenvectors the rows of vec^-1), and
     ||dPhi||_2 <= m max |dPhi_ij|. A defective set of eigenvectors has no
-    bound (+inf).
+    bounds (-inf, +inf).
     """
     m = phi.shape[-1]
     size = m * error * np.maximum(1.0, np.abs(phi).max((-1, -2)))
@@ -490,9 +491,12 @@ def _real_upper(rho, vec, phi, error, dt):
             except np.linalg.LinAlgError:
                 pass
     kappa = np.linalg.norm(vec, axis=-2) * np.linalg.norm(left, axis=-1)
+    move = kappa * size[:, None]
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        bound = np.log(np.abs(rho) + kappa * size[:, None]) / dt[:, None]
-    return np.nan_to_num(bound, nan=np.inf, posinf=np.inf, neginf=-np.inf)
+        upper = np.log(np.abs(rho) + move) / dt[:, None]
+        lower = np.log(np.maximum(np.abs(rho) - move, 0.0)) / dt[:, None]
+    lower[~np.isfinite(move)] = -np.inf
+    return np.where(np.isnan(lower), -np.inf, lower), np.where(np.isnan(upper), np.inf, upper)
 
 
 def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:

@@ -140,9 +140,36 @@ def zoom_many(
     return [(st[2], st[3]) for st in state]
 
 
-def crossing(fun, lo: float, hi: float) -> float:
-    """Where ``fun`` (scalar speeds) changes sign in [lo, hi], to 1e-10 relative."""
-    return float(brentq(lambda w: float(fun(np.array([w]))[0]), lo, hi, xtol=1e-12, rtol=1e-10))
+#: Half-width, relative, of the bracket a rough look at a crossing leaves for ``fun``.
+ROUGH_BRACKET = 1e-6
+
+
+def crossing(fun, lo: float, hi: float, rough=None) -> float:
+    """Where ``fun`` (on arrays of speeds) changes sign in [lo, hi], to 1e-10 relative.
+
+    With ``rough`` (``rough(speeds) -> (values, lower, upper)``, ``fun`` at a
+    looser accuracy, :class:`PeakWatch`), the crossing is first found with
+    it, and ``fun`` searches only within :data:`ROUGH_BRACKET` of there
+    where its values at both ends of that bracket differ in sign (else in
+    [lo, hi]).
+    """
+    known = {}
+
+    def f(w):
+        if w not in known:
+            known[w] = float(fun(np.array([w]))[0])
+        return known[w]
+
+    if rough is not None:
+        ends = np.asarray(rough(np.array([lo, hi]))[0], float)
+        if ends[0] * ends[1] < 0:
+            near = brentq(lambda w: float(rough(np.array([w]))[0][0]), lo, hi, xtol=1e-12, rtol=1e-8)
+            a, b = max(lo, near * (1 - ROUGH_BRACKET)), min(hi, near * (1 + ROUGH_BRACKET))
+            va, vb = (float(v) for v in fun(np.array([a, b])))
+            known[a], known[b] = va, vb
+            if va * vb <= 0:
+                lo, hi = a, b
+    return float(brentq(f, lo, hi, xtol=1e-12, rtol=1e-10))
 
 
 def bracket(grid, i):
@@ -162,10 +189,11 @@ class PeakWatch:
     worst speed moves little from one damping to the next, and only a full
     scan can show that no peak is positive.
 
-    With ``rough`` (``rough(parameter, speeds) -> (values, upper)``: ``fun``
-    at a looser accuracy and an upper bound of ``fun`` given it), scans and
+    With ``rough`` (``rough(parameter, speeds) -> (values, lower, upper)``:
+    ``fun`` at a looser accuracy and bounds of ``fun`` given it), scans and
     refinements look with it, and ``fun`` decides: at the refined peaks, and
-    at every grid speed whose bound does not rule out a positive value.
+    at every speed whose bounds do not settle the sign (a last peak whose
+    lower bound is positive is positive).
     """
 
     def __init__(self, fun, grid, kind, seeds=(), peaks=None, rough=None):
@@ -206,14 +234,23 @@ class PeakWatch:
         """
         if not self.brackets:
             return -np.inf
-        last = np.asarray(self.fun(p, np.array([span[2] for span in self.brackets])), float)
-        if last.max() > 0:
-            return float(last.max())
+        at = np.array([span[2] for span in self.brackets])
+        if self.rough is None:
+            last = np.asarray(self.fun(p, at), float)
+            if last.max() > 0:
+                return float(last.max())
+        else:
+            last, lower, upper = (np.asarray(v, float) for v in self.rough(p, at))
+            if lower.max() > 0:  # (positive whatever the rough look's error)
+                return float(lower.max())
         live = [k for k, span in enumerate(self.brackets) if not span[3]]
-        if not live:
-            return float(last.max())
-        tops = self._refine(p, [self.brackets[k] for k in live])
-        return max(max(tops), float(last.max()))
+        tops = self._refine(p, [self.brackets[k] for k in live]) if live else []
+        if self.rough is not None:  # the settled peaks' values at fun's accuracy where they may be positive
+            doubt = [k for k in range(len(at)) if k not in live and upper[k] > 0]
+            last = np.where(upper > 0, -np.inf, last)
+            if doubt:
+                last[doubt] = np.asarray(self.fun(p, at[doubt]), float)
+        return max(tops + [float(last.max())])
 
     def full(self, p):
         """Largest value from a full scan; the scan's peaks are watched from now on.
@@ -228,7 +265,7 @@ class PeakWatch:
             values = upper = np.asarray(self.fun(p, self.grid), float)
             best = float(values.max())
         else:
-            values, upper = (np.asarray(v, float) for v in self.rough(p, self.grid))
+            values, _, upper = (np.asarray(v, float) for v in self.rough(p, self.grid))
             best = -np.inf
         gain, spans, refined = None, [], []
         for i in local_maxima(values, self.peaks):

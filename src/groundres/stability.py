@@ -44,18 +44,18 @@ def is_neutral(real_part, speeds):
 NEUTRAL_BAND = 1e-3
 
 
-def largest_real_part(real, speeds, neutral: bool = True, upper=None) -> np.ndarray:
+def largest_real_part(real, speeds, neutral: bool = True, bound=None) -> np.ndarray:
     """Largest of real parts (n_s, k) [1/s] at each speed; without ``neutral``, over the
     roots not within :data:`NEUTRAL_BAND` of the growth threshold of zero (0 if none).
 
     A neutral root never grows, so leaving it out changes no verdict, but it
     would flatten the largest real part where every other root decays and hide
     the peak of the mode that decides (the damping search follows that peak).
-    With ``upper`` (n_s, k), upper bounds of the real parts, the largest of
-    those over the same roots.
+    With ``bound`` (n_s, k), lower or upper bounds of the real parts, the
+    largest of those over the same roots: a lower or an upper bound of it.
     """
     real = np.asarray(real, dtype=float)
-    value = real if upper is None else np.asarray(upper, dtype=float)
+    value = real if bound is None else np.asarray(bound, dtype=float)
     if neutral:
         return value.max(-1)
     band = NEUTRAL_BAND * growth_threshold(speeds)[:, None]
@@ -118,7 +118,7 @@ def _maximise(fun, lo: float, hi: float, xtol: float) -> tuple[float, float]:
     return float(-res.fun), float(res.x)
 
 
-def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, floor=0.0):
+def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, floor=0.0, rough=None):
     """Intervals where ``excess`` (largest real part minus the growth threshold) is positive.
 
     Parameters
@@ -144,6 +144,10 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
     floor : float
         Lowest speed [rad/s] analysed between rest and the grid's first turning
         speed (:func:`_start_above_rest`); 0 for no limit but round-off.
+    rough : callable, optional
+        ``rough(speeds) -> (values, lower, upper)``: ``excess`` at a looser
+        accuracy, for crossings and peaks to be looked for with
+        (:func:`groundres.scan.crossing`, :func:`groundres.scan.zoom_many`).
 
     Returns
     -------
@@ -170,21 +174,22 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
         if i == 0:
             start = grid[0]
         elif grid[i - 1] <= 0:  # the range begins somewhere between rest and grid[i]
-            start, open_at = _start_above_rest(excess, grid[i], floor)
+            start, open_at = _start_above_rest(excess, grid[i], floor, rough)
         else:
-            start = _end(excess, grid[i - 1], grid[i])
-        end = grid[-1] if j == n - 1 else scan.crossing(excess, grid[j], grid[j + 1])
+            start = _end(excess, grid[i - 1], grid[i], rough)
+        end = grid[-1] if j == n - 1 else scan.crossing(excess, grid[j], grid[j + 1], rough)
         k = i + int(np.argmax(values[i : j + 1]))
         found.append([float(start), float(end), float(grid[k]), float(values[k])])
         i = j + 1
     spans = [scan.bracket(grid, i) for i in scan.local_maxima(values, peaks) if values[i] <= 0 < grid[i]]
     spans = [(lo, hi) for lo, hi in spans if hi > lo]
     # (refined together: one call of ``excess`` per round for all of them)
-    for (lo, hi), (top, at) in zip(spans, scan.zoom_many(excess, spans, scan.PEAK_XTOL[kind])):
+    look = None if rough is None else (lambda w: rough(w)[0])
+    for (lo, hi), (top, at) in zip(spans, scan.zoom_many(excess, spans, scan.PEAK_XTOL[kind], rough=look)):
         if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
             continue
         # a range narrower than the grid: its ends on either side of the peak
-        found.append([float(_end(excess, lo, at)), float(_fall(excess, at, hi)), at, top])
+        found.append([float(_end(excess, lo, at, rough)), float(_fall(excess, at, hi, rough)), at, top])
     if closeness is not None:
         near = np.asarray(closeness(grid), float)
         for i in scan.local_maxima(-near, peaks):
@@ -200,7 +205,9 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
             if v.max() <= 0:
                 continue
             at = float(probe[int(np.argmax(v))])
-            found.append([float(_end(excess, lo, at)), float(_fall(excess, at, hi)), at, float(v.max())])
+            found.append(
+                [float(_end(excess, lo, at, rough)), float(_fall(excess, at, hi, rough)), at, float(v.max())]
+            )
     ranges, peaks = _merged(found)
     return ranges, peaks, (open_at if ranges and open_at is not None and ranges[0][0] == open_at else None)
 
@@ -219,7 +226,7 @@ def _merged(found):
     return [(a, b) for a, b, _, _ in out], [w for _, _, w, _ in out]
 
 
-def _start_above_rest(excess, first, floor):
+def _start_above_rest(excess, first, floor, rough=None):
     """Where a range that is open at ``first`` (the grid's first speed above
     rest) begins: the speeds first / 2, first / 4, ... down to ``floor`` are
     tried in one call, then the crossing refined between the last stable one
@@ -241,21 +248,35 @@ def _start_above_rest(excess, first, floor):
     if not len(calm):
         return float(w[-1]), float(w[-1])
     j = int(calm[0])
-    return scan.crossing(excess, float(w[j]), float(first if j == 0 else w[j - 1])), None
+    return scan.crossing(excess, float(w[j]), float(first if j == 0 else w[j - 1]), rough), None
 
 
-def _end(excess, lo, hi):
+def _end(excess, lo, hi, rough=None):
     """The rising crossing in [lo, hi], or lo if excess is already positive there."""
     if float(excess(np.array([lo]))[0]) > 0:
         return lo
-    return scan.crossing(excess, lo, hi)
+    return scan.crossing(excess, lo, hi, rough)
 
 
-def _fall(excess, lo, hi):
+def _fall(excess, lo, hi, rough=None):
     """The falling crossing in [lo, hi], or hi if excess is still positive there."""
     if float(excess(np.array([hi]))[0]) > 0:
         return hi
-    return scan.crossing(excess, lo, hi)
+    return scan.crossing(excess, lo, hi, rough)
+
+
+def _probed(excess, rough, probe):
+    """``excess`` on the internal grid: with a rough look where its bounds settle the
+    sign, and ``excess`` itself where they do not."""
+    if not len(probe):
+        return np.zeros(0)
+    if rough is None:
+        return np.asarray(excess(probe, neutral=True), float)
+    value, lower, upper = (np.asarray(v, float) for v in rough(probe, neutral=True))
+    open_ = (lower <= 0) & (upper > 0)
+    if open_.any():
+        value[open_] = excess(probe[open_], neutral=True)
+    return value
 
 
 def assess(
@@ -269,6 +290,7 @@ def assess(
     kind="eigen",
     closeness=None,
     floor=0.0,
+    rough_growth=None,
 ):
     """Unstable ranges and refined worst values for a sweep.
 
@@ -279,7 +301,9 @@ def assess(
     max_real, min_damping : ndarray (n_s,)
         Largest real part [1/s] and smallest damping ratio [-] at each sweep speed.
     growth : callable
-        ``growth(speeds) -> largest real part`` at any speeds (arrays, roots only).
+        ``growth(speeds, neutral=True) -> largest real part`` at any speeds
+        (arrays, roots only); without ``neutral``, of the roots that are not
+        neutral (:func:`largest_real_part`).
     max_real_at, min_damping_at : callable
         The same quantities at one speed, as accurate as the sweep's (to refine the worst values).
     probe : ndarray, optional
@@ -289,20 +313,37 @@ def assess(
         Nearest approach of two roots at given speeds (:func:`find_ranges`).
     floor : float
         Lowest speed [rad/s] analysed above rest (:func:`find_ranges`).
+    rough_growth : callable, optional
+        ``rough_growth(speeds, neutral=True) -> (value, lower, upper)``:
+        ``growth`` at a looser accuracy, for the internal grid and the
+        searches to look with; ``growth`` decides every sign that its bounds
+        leave open.
+
+    The crossings and narrow ranges are searched on the largest real part of
+    the roots that are not neutral: it has the sign of the whole one
+    everywhere (a neutral root never grows), and no corner where a decaying
+    root rises through a neutral one just before it crosses the threshold.
     """
     speeds = np.asarray(speeds, float)
     probe = np.zeros(0) if probe is None else np.asarray(probe, float)
-    grid = np.concatenate([speeds, probe])
-    values = np.concatenate([max_real, growth(probe) if len(probe) else np.zeros(0)])
-    order = np.argsort(grid, kind="stable")
-    grid, values = grid[order], values[order] - growth_threshold(grid[order])
 
-    def excess(w):
+    def excess(w, neutral=False):
         w = np.asarray(w, float)
-        return growth(w) - growth_threshold(w)
+        return growth(w, neutral=neutral) - growth_threshold(w)
 
+    rough = None
+    if rough_growth is not None:
+
+        def rough(w, neutral=False):
+            w = np.asarray(w, float)
+            return tuple(v - growth_threshold(w) for v in rough_growth(w, neutral=neutral))
+
+    grid = np.concatenate([speeds, probe])
+    values = np.concatenate([max_real - growth_threshold(speeds), _probed(excess, rough, probe)])
+    order = np.argsort(grid, kind="stable")
+    grid, values = grid[order], values[order]
     ranges, peak_speeds, open_below = find_ranges(
-        grid, values, excess, kind, closeness=closeness, floor=floor
+        grid, values, excess, kind, closeness=closeness, floor=floor, rough=rough
     )
     i = int(np.argmax(values))
     sweep_i = int(np.argmin(np.abs(speeds - grid[i])))
