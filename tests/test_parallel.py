@@ -23,3 +23,19 @@ def test_blas_is_single_threaded_inside_the_pool_and_restored_after():
 def test_results_keep_the_order_of_the_items():
     assert parallel.map_threads(lambda x: x * x, range(10)) == [x * x for x in range(10)]
     assert parallel.map_threads(lambda x: -x, [3]) == [-3]
+
+
+def test_a_batch_split_again_inside_the_pool_runs_in_place():
+    """(A pool thread waiting on tasks queued behind itself would never return: a grid
+    of node matrices is built over the pool, and may be asked for from inside it.)"""
+    import concurrent.futures
+
+    def inner(x):
+        return x + 1
+
+    def outer(x):
+        return parallel.map_threads(inner, [x, 10 * x])
+
+    with concurrent.futures.ThreadPoolExecutor(1) as watchdog:
+        got = watchdog.submit(parallel.map_threads, outer, range(4)).result(timeout=30)
+    assert got == [[x + 1, 10 * x + 1] for x in range(4)]

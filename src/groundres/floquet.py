@@ -378,7 +378,12 @@ def solve(
     rate, low, high = np.zeros(n_s), np.zeros(n_s), np.zeros(n_s)
     if len(moving):
         c_moving = None if damping is None else damping[moving]
-        rate[moving], low[moving], high[moving] = frozen_rates(system, speeds[moving], lag_damping=c_moving)
+        if lift or harmonics:
+            rate[moving], low[moving], high[moving] = frozen_rates(
+                system, speeds[moving], lag_damping=c_moving
+            )
+        else:  # (the real parts' spread only decides lifting: the rates set the first step counts)
+            rate[moving] = rates_per_radian(system, speeds[moving], lag_damping=c_moving)
     n_sym = system.n_blades // sym.shift
 
     def samples(r):

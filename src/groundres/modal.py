@@ -71,7 +71,7 @@ def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:
     return sorted(blocks, key=lambda b: (-len(b), b[0]))
 
 
-def _batched(fn, a):
+def batched(fn, a):
     """Apply a batched LAPACK call over the leading axis, split across cores
     (:func:`groundres.parallel.map_threads`)."""
     if a.ndim < 3 or a.shape[0] < 256 or CORES < 2:
@@ -125,8 +125,8 @@ def block_eig(m, c, k, vectors=True):
         return w, np.broadcast_to(v, w.shape[:-1] + (2, 4)).copy()
     a, d = unit_mass_state_matrix(m, c, k)
     if not vectors:
-        return _batched(np.linalg.eigvals, a)
-    w, v = _batched(np.linalg.eig, a)
+        return batched(np.linalg.eigvals, a)
+    w, v = batched(np.linalg.eig, a)
     q = v[..., :n, :] * d[..., :, None]
     return w, q / np.linalg.norm(q, axis=-2, keepdims=True)
 
@@ -189,7 +189,29 @@ class Eigensolution:
 
 
 def solve(mass, damping, stiffness, blocks) -> Eigensolution:
-    """Eigen-solution of M q'' + C q' + K q = 0 at every speed, block by block."""
+    """Eigen-solution of M q'' + C q' + K q = 0 at every speed, block by block.
+
+    A long sweep is split into as many parts as there are cores, each solved
+    whole (state matrices, LAPACK, vectors) in the pool's threads.
+    """
+    n_s = mass.shape[0]
+    if n_s < 256 or CORES < 2:
+        return _solve(mass, damping, stiffness, blocks)
+    parts = map_threads(
+        lambda idx: _solve(mass[idx], damping[idx], stiffness[idx], blocks),
+        np.array_split(np.arange(n_s), CORES),
+    )
+    first = parts[0]
+    return Eigensolution(
+        np.concatenate([p.eigenvalue for p in parts]),
+        np.concatenate([p.vector for p in parts]),
+        first.block,
+        first.blocks,
+    )
+
+
+def _solve(mass, damping, stiffness, blocks) -> Eigensolution:
+    """:func:`solve` in the calling thread."""
     n_s, n = mass.shape[0], mass.shape[-1]
     values = np.zeros((n_s, 2 * n), complex)
     vectors = np.zeros((n_s, n, 2 * n), complex)

@@ -31,6 +31,7 @@ import threading
 
 import numpy as np
 
+from .parallel import CORES, map_threads
 from .system import System
 
 #: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
@@ -177,8 +178,16 @@ def grid_nodes(
     last = steps if last is None else last
     h = angle / steps
     size = grid_values(system.size, steps, len(tableau.c), damping)
+
+    def evaluated(a, b):  # (steps a..b, in parts over the pool's threads: NumPy releases the GIL)
+        rows = np.array_split(np.arange(a, b), min(CORES, max(1, (b - a) // 8)))
+        parts = map_threads(
+            lambda r: node_blocks(system, (r[:, None] + tableau.c[None, :]) * h, damping), rows
+        )
+        return np.concatenate(parts) if len(parts) > 1 else parts[0]
+
     if size > GRID_CACHE_SIZE:
-        return node_blocks(system, (np.arange(first, last)[:, None] + tableau.c[None, :]) * h, damping)
+        return evaluated(first, last)
     cache = system.grid_cache
     key = (angle, int(steps), id(tableau), damping)
     with _CACHE_LOCK:  # (one thread builds a grid; the others wait for it)
@@ -188,7 +197,7 @@ def grid_nodes(
             grids = [k for k in cache if isinstance(k, tuple)]
             while grids and sum(cache[k].size for k in grids) + size > 4 * GRID_CACHE_SIZE:
                 del cache[grids.pop(0)]
-            cache[key] = node_blocks(system, (np.arange(steps)[:, None] + tableau.c[None, :]) * h, damping)
+            cache[key] = evaluated(0, steps)
         return cache[key][first:last]
 
 
@@ -211,15 +220,22 @@ def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarr
     With ``lag_damping`` (per speed) the system is a split one
     (:meth:`groundres.system.System.lag_damping_split`).
     """
+    from .modal import batched  # (threads for a long batch)
+
     speeds = np.asarray(speeds, dtype=float)
-    psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
     damping = lag_damping is not None
-    f = np.swapaxes(expand(node_blocks(system, psi, damping), node_coefficients(speeds, lag_damping)), 0, 1)
+    key = f"frozen-{probes}-{damping}"  # (the same few azimuths every time: their blocks are kept)
+    with _CACHE_LOCK:
+        blocks = system.grid_cache.get(key)
+        if blocks is None:
+            psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
+            blocks = system.grid_cache[key] = node_blocks(system, psi, damping)
+    f = np.swapaxes(expand(blocks, node_coefficients(speeds, lag_damping)), 0, 1)
     n = f.shape[-2]
     a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
     a[..., n:, :] = f
-    return np.linalg.eigvals(a)
+    return batched(np.linalg.eigvals, a.reshape((-1,) + a.shape[-2:])).reshape(a.shape[:-1])
 
 
 def rates_per_radian(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:

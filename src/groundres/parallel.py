@@ -12,6 +12,7 @@ keeps its own setting (a single large eigenproblem uses every core).
 from __future__ import annotations
 
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 #: Threads of the pool: the cores this process may run on, at most 4 (the
@@ -20,6 +21,9 @@ CORES = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") els
 
 _POOL = None
 _CONTROLLER = None
+#: ``inside`` is set in the pool's threads: a batch split again there runs in place
+#: (the pool's threads waiting on tasks queued behind themselves would never return).
+_LOCAL = threading.local()
 
 
 def _controller():
@@ -36,9 +40,13 @@ def map_threads(fn, items) -> list:
     """``[fn(x) for x in items]``, over the pool's threads with BLAS single-threaded."""
     global _POOL
     items = list(items)
-    if len(items) < 2 or CORES < 2:
+    if len(items) < 2 or CORES < 2 or getattr(_LOCAL, "inside", False):
         return [fn(x) for x in items]
     if _POOL is None:
-        _POOL = ThreadPoolExecutor(CORES)
+        _POOL = ThreadPoolExecutor(CORES, initializer=_mark_inside)
     with _controller().limit(limits=1, user_api="blas"):
         return list(_POOL.map(fn, items))
+
+
+def _mark_inside():
+    _LOCAL.inside = True
