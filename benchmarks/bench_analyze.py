@@ -65,7 +65,7 @@ def case(blades: int, full: bool, points: int):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=100)
-    parser.add_argument("--loop-speeds", type=int, default=4, help="speeds the lean loop is timed on")
+    parser.add_argument("--loop-speeds", type=int, default=8, help="speeds the lean loop is timed on")
     args = parser.parse_args()
     propagate.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
     print(f"{'case':34s} {'states':>6s} {'analyze [s]':>12s} {'loop [s]':>10s} {'speed-up':>9s} target")
