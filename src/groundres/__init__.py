@@ -30,6 +30,8 @@ _API = {
     "Sweep": "params",
     "SweepResult": "results",
     "System": "system",
+    "study": "studies",
+    "StudyError": "studies",
 }
 
 __all__ = ["__version__", *_API]

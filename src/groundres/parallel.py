@@ -11,6 +11,7 @@ keeps its own setting (a single large eigenproblem uses every core).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
@@ -50,3 +51,16 @@ def map_threads(fn, items) -> list:
 
 def _mark_inside():
     _LOCAL.inside = True
+
+
+@contextlib.contextmanager
+def in_place():
+    """Batches run in the calling thread and BLAS single-threaded, inside the block: for a
+    process that shares the cores with others (a Dask worker, one core each)."""
+    before = getattr(_LOCAL, "inside", False)
+    _LOCAL.inside = True
+    try:
+        with _controller().limit(limits=1, user_api="blas"):
+            yield
+    finally:
+        _LOCAL.inside = before

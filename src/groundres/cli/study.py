@@ -1,0 +1,225 @@
+"""`groundres study`: stability measures over a grid of case keys, on Dask."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import click
+
+from .common import fail_user, invocation, load, make_console
+
+#: What a study folder may hold: a folder with anything else is refused.
+STUDY_FILES = {"study.zarr", "study.nc", "boundary.nc", "map.png", "case.toml", "provenance.json"}
+
+
+def parse_vary(items) -> dict:
+    """``KEY=SPEC`` options into {key: spec}, naming the option that is wrong."""
+    out = {}
+    for item in items:
+        key, eq, spec = item.partition("=")
+        key, spec = key.strip(), spec.strip()
+        if not eq or not key or not spec:
+            fail_user(
+                f"--vary {item!r}: must be KEY=START:STOP:COUNT[:log], e.g. rotor.lag_damping=0:8000:17"
+            )
+        if key in out:
+            fail_user(f"--vary {key}: given twice")
+        out[key] = spec
+    return out
+
+
+def check_study_folder(out: Path) -> None:
+    """Refuse a folder that holds files a study did not write (nothing is mixed in)."""
+    if out.exists() and not out.is_dir():
+        fail_user(f"--out {str(out)!r}: exists and is not a folder")
+    if out.is_dir():
+        strangers = sorted(
+            p.name for p in out.iterdir() if p.name not in STUDY_FILES and not p.name.endswith(".partial")
+        )
+        if strangers:
+            fail_user(
+                f"--out {str(out)!r}: holds files no study wrote ({', '.join(strangers[:3])}); "
+                "give another folder"
+            )
+
+
+@click.command("study")
+@click.argument("case")
+@click.option(
+    "--vary",
+    "vary",
+    multiple=True,
+    required=True,
+    metavar="KEY=START:STOP:COUNT[:log]",
+    help="A case key to vary (dotted, e.g. rotor.lag_damping, body.damping_x, "
+    "rotor.blade[2].lag_damping, sweep.stop), in the case's units; repeat for more keys.",
+)
+@click.option(
+    "--failures",
+    type=click.Choice(["single"]),
+    default=None,
+    help="Add a dimension 'failure': all dampers working, and each lag damper out of action in turn.",
+)
+@click.option(
+    "--out",
+    "out",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Study folder: study.zarr (kept chunk by chunk: the same command resumes an interrupted "
+    "study), study.nc and map.png.",
+)
+@click.option(
+    "--workers",
+    type=click.IntRange(1, 512),
+    default=None,
+    help="Worker processes of the local Dask cluster [default: the cores of this machine].",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Run on an existing Dask cluster (e.g. tcp://host:8786).",
+)
+@click.option(
+    "--boundary",
+    default=None,
+    metavar="KEY",
+    help="Instead of the grid: find where the stability changes along this varied key, by root "
+    "finding, for every value of the others (boundary.nc, map.png).",
+)
+def command(case, vary, failures, out, workers, scheduler, boundary):
+    """Stability of CASE over a grid of its keys (and single lag-damper failures).
+
+    Each grid point is a full speed sweep of the case. Writes study.zarr and
+    study.nc (measures per point: max_real_part, min_damping_ratio,
+    unstable_width, first_unstable_speed, stable, error) and map.png into
+    --out. Runs on a local Dask cluster unless --scheduler names one.
+    """
+    from .. import folders, io, studies
+    from ..parallel import CORES
+
+    console = make_console()
+    the_case = load(case)
+    grid = studies.make_grid(the_case, parse_vary(vary), failures)
+    out_dir = Path(out)
+    check_study_folder(out_dir)
+    if boundary is not None and boundary not in grid.keys:
+        fail_user(f"--boundary {boundary}: must be one of the --vary keys ({', '.join(grid.keys)})")
+    if scheduler is not None and workers is not None:
+        fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
+    client = _client(scheduler, workers or CORES)
+    started = time.perf_counter()
+    values = dict(zip(grid.keys, grid.values))
+    try:
+        with _Progress(console, "Boundary lines" if boundary else "Grid points") as progress:
+            if boundary is None:
+                ds = studies.study(the_case, values, failures, client, out_dir, progress)
+            else:
+                ds = studies.boundary(the_case, values, boundary, failures, client, progress)
+    finally:
+        _close(client)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if boundary is not None:
+        studies.write_netcdf(ds, out_dir / "boundary.nc")
+    io.write_figure(studies.plot(ds, the_case, grid), out_dir / "map.png")
+    folders.write_provenance(out_dir, the_case, command="study", **invocation())
+    seconds = time.perf_counter() - started
+    (_report if boundary is None else _report_boundary)(console, ds, grid, out_dir, seconds)
+
+
+def _client(scheduler, workers):
+    from ..studies.run import local_client
+
+    if scheduler is None:
+        return local_client(workers)
+    from distributed import Client
+
+    try:
+        return Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as err:
+        fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
+
+
+def _close(client):
+    cluster = getattr(client, "cluster", None)
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+class _Progress:
+    """Points done, rate and time left, on a terminal."""
+
+    def __init__(self, console, what):
+        self.console, self.what, self.bar, self.task = console, what, None, None
+
+    def __enter__(self):
+        if self.console.is_terminal:
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            self.bar = Progress(
+                TextColumn(self.what),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("{task.fields[rate]}"),
+                TimeElapsedColumn(),
+                TextColumn("left"),
+                TimeRemainingColumn(),
+                console=self.console,
+                transient=True,
+            )
+            self.bar.start()
+            self.first, self.started = None, time.perf_counter()
+        return self
+
+    def __call__(self, done, total):
+        if self.bar is None:
+            return
+        if self.task is None:
+            self.task, self.first = self.bar.add_task("study", total=total, rate=""), done
+        elapsed = time.perf_counter() - self.started
+        rate = f"{(done - self.first) / elapsed:.2f}/s" if elapsed > 0 and done > self.first else ""
+        self.bar.update(self.task, completed=done, total=total, rate=rate)
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.stop()
+
+
+def _report(console, ds, grid, out_dir, seconds):
+    import numpy as np
+
+    failed = int((ds.error.values != "").sum())
+    stable = int(ds.stable.values.sum())
+    console.print(
+        f"Study of {grid.size} grid points ({' x '.join(map(str, grid.shape))}: {', '.join(grid.dims)}) "
+        f"in {seconds:.1f} s: {stable} stable, {grid.size - stable - failed} unstable, {failed} failed."
+    )
+    if failed:
+        first = ds.error.values.ravel()[np.flatnonzero(ds.error.values.ravel() != "")[0]]
+        console.print(f"A failed point's reason: {first}", markup=False)
+    console.print(f"Wrote {out_dir}/study.zarr, study.nc, map.png, case.toml, provenance.json")
+
+
+def _report_boundary(console, ds, grid, out_dir, seconds):
+    import numpy as np
+
+    key = ds.attrs["boundary_key"]
+    lines = ds.boundary.size
+    found = int(np.isfinite(ds.boundary.values).sum())
+    failed = int((ds.error.values != "").sum())
+    sweeps = int(ds.evaluations.values.sum())
+    console.print(
+        f"Stability boundary along {key}: {lines} line(s) in {seconds:.1f} s, {sweeps} speed sweeps "
+        f"(a grid would take {grid.size}); boundary found on {found}, none in the range on "
+        f"{lines - found - failed}, {failed} failed."
+    )
+    console.print(f"Wrote {out_dir}/boundary.nc, map.png, case.toml, provenance.json")

@@ -1,0 +1,244 @@
+"""The picture of a design study: stability over the varied keys.
+
+Two keys: a filled map of the largest real part (blue decays, red grows, the
+colour scale symmetric about zero) with the stability boundary drawn bold,
+the case's own design point marked and the Deutsch requirement drawn where
+it applies; with failures, one map for the worst failure at each point and
+one per failure. One key: the measures against the key, a line per failure.
+More keys: small multiples over the third key's values (the worst failure).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .titles import figure_title
+
+#: Most panels of one picture (a study with more values of its third key shows some of them).
+MAX_PANELS = 12
+_FAILURE = "failure"
+
+
+def _label(ds, key) -> str:
+    unit = ds[key].attrs.get("units", "")
+    return f"{key} [{unit}]" if unit and unit != "1" else key
+
+
+def _worst(ds):
+    if _FAILURE not in ds.dims:
+        return ds
+    return ds.assign(
+        max_real_part=ds.max_real_part.max(_FAILURE),
+        unstable_width=ds.unstable_width.max(_FAILURE),
+        stable=ds.stable.all(_FAILURE),
+    ).drop_dims(_FAILURE)
+
+
+def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
+    """The study's figure (a matplotlib Figure).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study (:func:`groundres.studies.study`).
+    design : dict, optional
+        The case's own value of each varied key: marked.
+    deutsch : (lag_key, other_key, other_values, required), optional
+        The lag damping the Deutsch criterion asks for at each value of the
+        other key [N m s/rad]: drawn on two-key maps; a str instead says why
+        the criterion does not apply.
+    """
+    from matplotlib.figure import Figure
+
+    keys = [d for d in ds.max_real_part.dims if d != _FAILURE]
+    failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else []
+    if len(keys) == 1:
+        fig = Figure(figsize=(8.0, 6.5), layout="constrained")
+        _one_key(fig, ds, keys[0], failures, design)
+    else:
+        panels = _panels(ds, keys, failures)
+        cols = min(3, len(panels))
+        rows = -(-len(panels) // cols)
+        fig = Figure(figsize=(4.6 * cols + 1.2, 4.0 * rows + 0.8), layout="constrained")
+        axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+        scale = (
+            float(np.nanmax(np.abs(ds.max_real_part.values)))
+            if np.isfinite(ds.max_real_part.values).any()
+            else 1.0
+        )
+        scale = scale or 1.0
+        image = None
+        for ax, (name, part) in zip(axes, panels):
+            image = _two_keys(ax, part, keys[0], keys[1], scale, design, deutsch)
+            ax.set_title(name, fontsize=9)
+        for ax in axes[len(panels) :]:
+            ax.set_visible(False)
+        if image is not None:
+            bar = fig.colorbar(image, ax=axes[: len(panels)].tolist(), shrink=0.9)
+            bar.set_label("largest real part [1/s] (red grows)")
+        if isinstance(deutsch, str):
+            fig.text(0.01, 0.003, f"Deutsch criterion: {deutsch}", fontsize=8, va="bottom")
+    fig.suptitle(figure_title(title or ds.attrs.get("title", "groundres study")), fontsize=10)
+    return fig
+
+
+def _panels(ds, keys, failures):
+    """(title, 2-key data set) for each panel."""
+    extra = keys[2:]
+    out = []
+    base = [("worst single failure" if failures else "", _worst(ds))]
+    if failures and not extra:
+        base += [(f"failure: {f}", ds.sel({_FAILURE: f})) for f in failures]
+    for name, part in base:
+        if not extra:
+            out.append((name, part))
+            continue
+        stack = part.stack(_panel=extra)
+        for i in range(min(stack.sizes["_panel"], MAX_PANELS)):
+            one = stack.isel(_panel=i)
+            where = ", ".join(f"{k} = {float(one[k]):.4g}" for k in extra)
+            out.append(((name + "; " if name else "") + where, one.drop_vars(["_panel", *extra])))
+    return out[:MAX_PANELS]
+
+
+def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
+    x, y = np.asarray(part[xkey], float), np.asarray(part[ykey], float)
+    z = np.asarray(part.max_real_part.transpose(ykey, xkey), float)
+    levels = np.linspace(-scale, scale, 21)
+    image = None
+    if len(x) > 1 and len(y) > 1:
+        image = ax.contourf(x, y, np.clip(z, -scale, scale), levels=levels, cmap="RdBu_r", extend="both")
+        stable = np.asarray(part.stable.transpose(ykey, xkey), bool)
+        if 0 < stable.mean() < 1:  # (the largest real part signed by the verdict: its zero lies between
+            # the grid's stable and unstable points, where the real part crosses the threshold)
+            signed = np.where(stable, -np.abs(z), np.abs(z))
+            ax.contour(x, y, signed, levels=[0.0], colors="black", linewidths=2.2)
+            ax.plot([], [], color="black", linewidth=2.2, label="stability boundary")
+    else:
+        image = ax.scatter(*np.meshgrid(x, y), c=z, cmap="RdBu_r", vmin=-scale, vmax=scale)
+    if design and xkey in design and ykey in design:
+        ax.plot(
+            design[xkey],
+            design[ykey],
+            marker="*",
+            markersize=14,
+            color="gold",
+            markeredgecolor="black",
+            linestyle="none",
+            label="design point",
+        )
+    if isinstance(deutsch, tuple) and {deutsch[0], deutsch[1]} == {xkey, ykey}:
+        lag, other, values, required = deutsch
+        ok = np.isfinite(required)
+        if ok.any():
+            px, py = (required, values) if lag == xkey else (values, required)
+            ax.plot(
+                px[ok], py[ok], color="#2ca02c", linewidth=1.8, linestyle="--", label="Deutsch requirement"
+            )
+    ax.set_xlim(x.min(), x.max()) if len(x) > 1 else None
+    ax.set_ylim(y.min(), y.max()) if len(y) > 1 else None
+    ax.set_xlabel(_label(part, xkey))
+    ax.set_ylabel(_label(part, ykey))
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="upper right", framealpha=0.85)
+    return image
+
+
+def _one_key(fig, ds, key, failures, design):
+    ax_real, ax_width = fig.subplots(2, 1, sharex=True)
+    x = np.asarray(ds[key], float)
+    series = [(f, ds.sel({_FAILURE: f})) for f in failures] if failures else [("", ds)]
+    for name, part in series:
+        ax_real.plot(x, part.max_real_part.values, marker=".", label=f"failure: {name}" if name else None)
+        ax_width.plot(x, part.unstable_width.values, marker=".", label=f"failure: {name}" if name else None)
+    if failures:
+        worst = _worst(ds)
+        ax_real.plot(x, worst.max_real_part.values, color="black", linewidth=2.2, label="worst")
+    ax_real.axhline(0.0, color="black", linewidth=0.8)
+    ax_real.set_ylabel("largest real part [1/s]")
+    ax_width.set_ylabel("width of the unstable ranges [rad/s]")
+    ax_width.set_xlabel(_label(ds, key))
+    for ax in (ax_real, ax_width):
+        if design and key in design:
+            ax.axvline(design[key], color="goldenrod", linestyle=":", label="design point")
+        ax.grid(alpha=0.3)
+    if ax_real.get_legend_handles_labels()[0]:
+        ax_real.legend(fontsize=8)
+
+
+def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str = ""):
+    """The figure of a boundary search (:func:`groundres.studies.boundary`).
+
+    ``keys``: the study's varied keys in order (the boundary key among them),
+    which set the axes as in :func:`study_map`: the boundary against the first
+    other key, a line per failure (and per value of any further key).
+    """
+    from matplotlib.figure import Figure
+
+    key = ds.attrs["boundary_key"]
+    others = [k for k in keys if k != key]
+    fig = Figure(figsize=(8.0, 6.0), layout="constrained")
+    ax = fig.subplots()
+    failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else [None]
+    if not others:
+        names = [str(f) if f is not None else "" for f in failures]
+        ax.bar(range(len(names)), np.atleast_1d(ds.boundary.values), color="#1f77b4")
+        ax.set_xticks(range(len(names)), names)
+        ax.set_ylabel(_label(ds, key) if key in ds.coords else key)
+        ax.set_ylim(*sorted(ds.attrs["boundary_range"]))
+    else:
+        first, rest = others[0], others[1:]
+        stack = ds.stack(_line=rest) if rest else ds.expand_dims(_line=[0])
+        for f in failures:
+            part = stack.sel({_FAILURE: f}) if f is not None else stack
+            for i in range(min(part.sizes["_line"], 8)):
+                one = part.isel(_line=i)
+                name = [f"failure: {f}"] if f is not None else []
+                name += [f"{k} = {float(one[k]):.4g}" for k in rest]
+                along, at = np.asarray(one[first], float), np.asarray(one.boundary, float)
+                x, y = (at, along) if keys.index(key) < keys.index(first) else (along, at)
+                label = ", ".join(name) or "boundary"
+                if np.isnan(at).all():  # (nothing to draw: the legend says which side the line is on)
+                    whole = "stable" if np.asarray(one.stable_at_start).all() else "unstable"
+                    label += f": {whole} over the whole range"
+                ax.plot(x, y, marker="o", markersize=3, linewidth=1.8, label=label)
+        span = sorted(ds.attrs["boundary_range"])
+        if keys.index(key) < keys.index(first):
+            ax.set_xlim(*span)
+            ax.set_xlabel(f"{key} (stability boundary)")
+            ax.set_ylabel(_label(ds, first))
+        else:
+            ax.set_ylim(*span)
+            ax.set_ylabel(f"{key} (stability boundary)")
+            ax.set_xlabel(_label(ds, first))
+        if design and key in design and first in design:
+            point = (
+                (design[key], design[first])
+                if keys.index(key) < keys.index(first)
+                else (design[first], design[key])
+            )
+            ax.plot(
+                *point,
+                marker="*",
+                markersize=14,
+                color="gold",
+                markeredgecolor="black",
+                linestyle="none",
+                label="design point",
+            )
+        if isinstance(deutsch, tuple) and deutsch[1] == first:
+            lag, _, values, required = deutsch
+            ok = np.isfinite(required)
+            x, y = (required, values) if keys.index(lag) < keys.index(first) else (values, required)
+            ax.plot(x[ok], y[ok], color="#2ca02c", linestyle="--", linewidth=1.6, label="Deutsch requirement")
+        elif isinstance(deutsch, str):
+            ax.text(0.01, 0.01, f"Deutsch criterion: {deutsch}", transform=ax.transAxes, fontsize=8)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    missing = int(np.isnan(np.asarray(ds.boundary.values, float)).sum())
+    if missing:
+        ax.set_title(
+            f"{missing} line(s) have no boundary in the range (stable or unstable throughout)", fontsize=8
+        )
+    fig.suptitle(figure_title(title or ds.attrs.get("title", "groundres stability boundary")), fontsize=10)
+    return fig

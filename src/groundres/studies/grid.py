@@ -1,0 +1,215 @@
+"""The grid of a design study: which case keys vary, over which values, and the failures.
+
+A varied key is any number key of the case file in dotted form, as the case
+file nests it: ``rotor.lag_damping``, ``body.damping_x``, ``sweep.stop``, and
+``rotor.blade[k].<key>`` for blade k (1-based, the ``index`` of a
+``[[rotor.blade]]`` table, which is added where the case has none). The keys
+and their types come from the case-file schema (:data:`groundres.config.SCHEMA`),
+so a key added to the format later is variable without code here. Values are
+in the case's own units (``sweep.stop`` in the sweep's unit).
+
+A failure is a single lag damper out of action: blade k's ``lag_damping`` set
+to 0. ``failures="single"`` adds one entry per blade with a working damper,
+besides "none".
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import hashlib
+import json
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import SCHEMA, CaseError, parse_case
+from ..params import Case, shown
+
+#: Most grid points of one study (a study beyond it is refused before any work).
+MAX_POINTS = 1_000_000
+#: Name of the failure dimension and of its entry with every damper working.
+FAILURE, NO_FAILURE = "failure", "none"
+
+_BLADE = re.compile(r"^rotor\.blade\[(\d+)\]\.([a-z_]+)$")
+
+
+class StudyError(CaseError):
+    """A study that cannot be set up (a key, a range or a count), fit for the user."""
+
+
+def numeric_keys() -> list[str]:
+    """Every varied key the case format has (``rotor.blade[k].*`` shown with k)."""
+    out = []
+    for table, keys in SCHEMA.items():
+        for key, kind in keys.items():
+            if kind in ("a number", "a whole number") and table != "rotor.blade":
+                out.append(f"{table}.{key}" if table else key)
+    out += [f"rotor.blade[k].{key}" for key, kind in SCHEMA["rotor.blade"].items() if kind == "a number"]
+    return out
+
+
+def key_kind(key: str) -> str:
+    """ "a number" or "a whole number" for a variable key; StudyError naming it otherwise."""
+    blade = _BLADE.match(key)
+    if blade:
+        table, name = "rotor.blade", blade[2]
+    else:
+        table, _, name = key.rpartition(".")
+    kind = SCHEMA.get(table, {}).get(name)
+    if kind not in ("a number", "a whole number") or (blade is None and table == "rotor.blade"):
+        near = difflib.get_close_matches(key, numeric_keys(), n=1, cutoff=0.6)
+        hint = f"; did you mean '{near[0]}'?" if near else "; see the case-file keys (docs/case-files.md)"
+        what = f"is {kind}, not a number" if kind else "is no number key of a case file"
+        raise StudyError(f"--vary {shown(key)}: {what}{hint}")
+    return kind
+
+
+def parse_values(key: str, spec) -> np.ndarray:
+    """The values of a varied key: ``"START:STOP:COUNT[:log]"`` or a sequence of numbers."""
+    kind = key_kind(key)
+    if isinstance(spec, str):
+        parts = spec.split(":")
+        if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] != "log"):
+            raise StudyError(f"--vary {key}={shown(spec)}: must be START:STOP:COUNT or START:STOP:COUNT:log")
+        try:
+            start, stop = float(parts[0]), float(parts[1])
+        except ValueError:
+            raise StudyError(f"--vary {key}={shown(spec)}: START and STOP must be numbers") from None
+        try:
+            count = int(parts[2])
+        except ValueError:
+            raise StudyError(f"--vary {key}={shown(spec)}: COUNT must be a whole number") from None
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise StudyError(f"--vary {key}={shown(spec)}: START and STOP must be finite")
+        if not 1 <= count <= MAX_POINTS:
+            raise StudyError(f"--vary {key}={shown(spec)}: COUNT = {count} must be from 1 to {MAX_POINTS}")
+        if len(parts) == 4:
+            if start <= 0 or stop <= 0:
+                raise StudyError(f"--vary {key}={shown(spec)}: a log range needs START and STOP > 0")
+            values = np.geomspace(start, stop, count)
+        else:
+            values = np.linspace(start, stop, count)
+    else:
+        values = np.atleast_1d(np.asarray(spec, dtype=float))
+        if values.ndim != 1 or not len(values) or not np.isfinite(values).all():
+            raise StudyError(f"vary {key}: the values must be a non-empty list of finite numbers")
+    if kind == "a whole number":
+        if not np.all(values == np.round(values)):
+            raise StudyError(
+                f"--vary {key}: {key} is a whole number; the range gives {shown(values.tolist())}"
+            )
+        values = np.round(values)
+    return values
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The points of a study: the product of the varied keys' values (and failures).
+
+    Attributes
+    ----------
+    keys : tuple of str
+        Varied keys, in order (the study's first dimensions).
+    values : tuple of ndarray
+        Their values, in the case's units.
+    failures : tuple of str
+        "none" and "blade k" entries (empty without a failure dimension).
+    """
+
+    keys: tuple
+    values: tuple
+    failures: tuple = ()
+
+    @property
+    def dims(self) -> tuple:
+        return self.keys + ((FAILURE,) if self.failures else ())
+
+    @property
+    def shape(self) -> tuple:
+        return tuple(len(v) for v in self.values) + ((len(self.failures),) if self.failures else ())
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    def point(self, flat: int) -> tuple[dict, str]:
+        """The values of each key and the failure at a flat (C-order) index."""
+        where = np.unravel_index(flat, self.shape)
+        values = {k: float(v[i]) for k, v, i in zip(self.keys, self.values, where)}
+        return values, (self.failures[where[-1]] if self.failures else NO_FAILURE)
+
+    def fingerprint(self, case_text: str) -> str:
+        """A hash of the case text and the grid: a store made for another is refused."""
+        grid = {
+            "keys": list(self.keys),
+            "values": [np.asarray(v).tolist() for v in self.values],
+            "failures": list(self.failures),
+        }
+        text = case_text + "\n" + json.dumps(grid, sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+
+def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
+    """The grid of a study of ``case`` (``vary``: key -> spec, :func:`parse_values`)."""
+    if not vary:
+        raise StudyError("--vary: at least one key must vary (KEY=START:STOP:COUNT)")
+    keys = tuple(vary)
+    values = tuple(parse_values(k, vary[k]) for k in keys)
+    data = raw(case)
+    for key in keys:
+        blade = _BLADE.match(key)
+        if blade and not 1 <= int(blade[1]) <= data["rotor"]["blades"]:
+            raise StudyError(
+                f"--vary {key}: blade {blade[1]} does not exist (blades = {data['rotor']['blades']})"
+            )
+    names = ()
+    if failures is not None:
+        if failures != "single":
+            raise StudyError(f"--failures {shown(failures)}: must be 'single'")
+        working = [i + 1 for i, b in enumerate(case.rotor.blades) if b.lag_damping > 0]
+        if not working:
+            raise StudyError("--failures single: the case has no working lag damper to fail")
+        names = (NO_FAILURE, *(f"blade {k}" for k in working))
+    grid = Grid(keys, values, names)
+    if grid.size > MAX_POINTS:
+        raise StudyError(f"--vary: the grid has {grid.size} points, more than {MAX_POINTS}")
+    return grid
+
+
+def raw(case: Case) -> dict:
+    """The case's TOML tables, to be varied."""
+    if not case.text:
+        raise StudyError("the case has no text to vary: give a case file or a shipped case")
+    return tomllib.loads(case.text)
+
+
+def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str = "") -> Case:
+    """The case with each key set to its value and the failure applied (CaseError if invalid)."""
+    data = copy.deepcopy(data)
+    for key, value in values.items():
+        kind = key_kind(key)
+        number = int(round(value)) if kind == "a whole number" else float(value)
+        blade = _BLADE.match(key)
+        if blade:
+            _blade_table(data, int(blade[1]))[blade[2]] = number
+        else:
+            table, _, name = key.rpartition(".")
+            data.setdefault(table, {})[name] = number
+    if failure != NO_FAILURE:
+        _blade_table(data, int(failure.split()[-1]))["lag_damping"] = 0.0
+    return parse_case(data, source)
+
+
+def _blade_table(data: dict, index: int) -> dict:
+    """The ``[[rotor.blade]]`` table of blade ``index`` (added if the case has none)."""
+    tables = data["rotor"].setdefault("blade", [])
+    for entry in tables:
+        if entry.get("index") == index:
+            return entry
+    entry = {"index": index}
+    tables.append(entry)
+    return entry

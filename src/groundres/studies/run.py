@@ -1,0 +1,137 @@
+"""Computing a study's grid: in this process, or on a Dask cluster, chunk by chunk.
+
+Tasks are chunks of grid points (:func:`groundres.studies.store.chunk_shape`),
+each a full speed sweep per point. On a cluster every task runs on one core
+(groundres' own threads and BLAS held to one: the workers share the cores);
+results come back as tasks finish and are written to the store at once, so
+an interrupted study loses at most the chunks in flight. This module is the
+only one that knows Dask.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import parallel
+from .grid import Grid, varied_case
+from .measures import ERROR, MEASURES, empty, failed, of_case
+from .store import chunk_shape, chunks, flat_indices, open_store, write_chunk
+
+#: Most points of a task (a Floquet point takes about 0.1-1 s: a task of a few
+#: seconds makes the scheduler's milliseconds negligible).
+CHUNK_POINTS = 32
+#: Tasks wanted for a study, at least (load balance over a cluster's workers).
+CHUNK_COUNT = 64
+
+
+def study_chunk(grid: Grid) -> tuple:
+    """The chunk shape of a study: a function of its grid only (a resume finds the same)."""
+    target = max(1, min(CHUNK_POINTS, grid.size // CHUNK_COUNT))
+    return chunk_shape(grid.shape, target)
+
+
+def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
+    """Measures of the grid points ``flats`` (flat indices), in order: arrays.
+
+    A point whose case is invalid, or that the model cannot analyse, has NaN
+    measures and its reason in ``error``; the others go on.
+    """
+    out = empty(len(flats))
+    for j, flat in enumerate(flats):
+        values, failure = grid.point(int(flat))
+        try:
+            measured = of_case(varied_case(data, values, failure, source))
+        except Exception as err:  # noqa: BLE001 - recorded with its reason; the study goes on
+            out[ERROR][j] = failed(err)
+            continue
+        for name in MEASURES:
+            out[name][j] = measured[name]
+    return out
+
+
+def compute(data, source, grid, store: Path | None = None, fresh=None, client=None, progress=None):
+    """Measures of every grid point, chunk by chunk: a dict of arrays shaped as the grid.
+
+    Parameters
+    ----------
+    data : dict
+        The case's TOML tables (:func:`groundres.studies.grid.raw`).
+    source : str
+        The case's name, for messages.
+    grid : Grid
+    store : Path, optional
+        Zarr store: finished chunks are written there as they come, and the
+        chunks found done there are not computed again.
+    fresh : xarray.Dataset
+        The store's template (:func:`groundres.studies.store.template`), with ``store``.
+    client : dask.distributed.Client, optional
+        Where to compute; None: in this process.
+    progress : callable, optional
+        ``progress(done, total)`` in grid points.
+    """
+    chunk = study_chunk(grid)
+    done = open_store(store, fresh, chunk) if store is not None else np.zeros(grid.shape, bool)
+    values = empty(grid.size)
+    todo = [where for where in chunks(grid.shape, chunk) if not done[where].all()]
+    batches = [(data, source, grid, flat_indices(grid.shape, where)) for where in todo]
+    finished = grid.size - sum(len(b[3]) for b in batches)
+
+    def take(i, got):
+        flats = batches[i][3]
+        for name in values:
+            values[name][flats] = got[name]
+        if store is not None:
+            write_chunk(store, grid, todo[i], got)
+        return len(flats)
+
+    map_batches(compute_points, batches, client, progress, take, (finished, grid.size))
+    return values
+
+
+def map_batches(fn, batches, client=None, progress=None, take=None, count=None):
+    """``fn(*batch)`` for each batch, in this process or on ``client`` (on a worker's one
+    core), results handed to ``take(index, result)`` as they come (in any order on a
+    cluster); ``take`` returns how many items the batch held (1 without ``take``).
+    ``progress(done, total)`` counts items from ``count`` = (done before, total).
+
+    Returns the results in the batches' order.
+    """
+    report = progress or (lambda done, total: None)
+    done, total = count if count is not None else (0, len(batches))
+    out = [None] * len(batches)
+    report(done, total)
+
+    def taken(i, result):
+        nonlocal done
+        out[i] = result
+        done += take(i, result) if take is not None else 1
+        report(done, total)
+
+    if client is None:
+        for i, batch in enumerate(batches):
+            taken(i, fn(*batch))
+        return out
+    from distributed import as_completed
+
+    futures = {client.submit(_in_place, fn, *batch, pure=False): i for i, batch in enumerate(batches)}
+    for future in as_completed(futures):
+        taken(futures[future], future.result())
+    return out
+
+
+def _in_place(fn, *args):
+    """A task on a cluster's worker: one core (see the module's note)."""
+    with parallel.in_place():
+        return fn(*args)
+
+
+def local_client(workers: int):
+    """A Dask cluster on this machine: ``workers`` processes of one thread each."""
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
+    )
+    return Client(cluster)

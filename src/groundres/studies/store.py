@@ -1,0 +1,137 @@
+"""A study's results on disk: a Zarr store written chunk by chunk, so that nothing is lost.
+
+The store holds every measure (:data:`groundres.studies.measures.MEASURES`),
+the reason a point failed (``error``) and whether each point is done
+(``done``), all chunked as the study's tasks are. A finished chunk's values
+are written first and its ``done`` flags after them: a chunk cut short by an
+interruption is computed again on resume, and one whose flags are set is
+complete. The store's attributes keep the case text, the grid and their
+hash (:meth:`groundres.studies.grid.Grid.fingerprint`); a study resumed into
+a store made for another case or grid is refused, saying what differs.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .._version import __version__
+from .grid import FAILURE, Grid, StudyError
+from .measures import ERROR, MEASURES, empty
+
+DONE = "done"
+#: Units of the speed keys' values by the case's sweep unit are the case's own.
+_ZARR = {"consolidated": False}
+
+
+def chunk_shape(shape: tuple, target: int) -> tuple:
+    """A chunk of about ``target`` points: the trailing dimensions kept whole first."""
+    chunk = list(shape)
+    for d in range(len(shape)):
+        while math.prod(chunk) > target and chunk[d] > 1:
+            chunk[d] = -(-chunk[d] // 2)
+    return tuple(chunk)
+
+
+def chunks(shape: tuple, chunk: tuple) -> list[tuple]:
+    """The chunks of a grid, as tuples of slices (C order)."""
+    starts = [range(0, n, c) for n, c in zip(shape, chunk)]
+    return [
+        tuple(slice(s, min(s + c, n)) for s, c, n in zip(corner, chunk, shape))
+        for corner in itertools.product(*starts)
+    ]
+
+
+def flat_indices(shape: tuple, where: tuple) -> np.ndarray:
+    """Flat (C-order) indices of the points of a chunk, in C order within it."""
+    return np.ravel_multi_index(
+        np.meshgrid(*[np.arange(s.start, s.stop) for s in where], indexing="ij"), shape
+    ).ravel()
+
+
+def template(grid: Grid, case, units: dict) -> xr.Dataset:
+    """The study's data set with nothing computed (NaN, False, no error, nothing done)."""
+    coords = {
+        k: (k, np.asarray(v, float), {"units": units.get(k, "")}) for k, v in zip(grid.keys, grid.values)
+    }
+    if grid.failures:
+        coords[FAILURE] = (
+            FAILURE,
+            np.array(grid.failures, dtype=object),
+            {"long_name": "lag damper out of action"},
+        )
+    values = empty(grid.size)
+    data = {}
+    for name, (_, unit, long_name) in MEASURES.items():
+        data[name] = (grid.dims, values[name].reshape(grid.shape), {"units": unit, "long_name": long_name})
+    data[ERROR] = (
+        grid.dims,
+        values[ERROR].reshape(grid.shape),
+        {"long_name": "why the point has no measures"},
+    )
+    data[DONE] = (grid.dims, np.zeros(grid.shape, bool), {"long_name": "point computed"})
+    attrs = {
+        "title": f"groundres study of {case.title}",
+        "case_text": case.text,
+        "grid": json.dumps({"keys": list(grid.keys), "failures": list(grid.failures)}),
+        "fingerprint": grid.fingerprint(case.text),
+        "groundres_version": __version__,
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
+    """Create the store (or open the one there for a resume); the points already done."""
+    path = Path(path)
+    if not (path / "zarr.json").exists():
+        if path.exists() and any(path.iterdir()):
+            raise StudyError(f"{path}: exists and is not a study store; give another --out or remove it")
+        encoding = {name: {"chunks": chunk} for name in fresh.data_vars}
+        fresh.to_zarr(path, mode="w", encoding=encoding, **_ZARR)
+        return np.zeros(fresh[DONE].shape, bool)
+    try:
+        stored = xr.open_zarr(path, **_ZARR)
+    except Exception as err:  # noqa: BLE001 - any unreadable store is the user's to remove
+        raise StudyError(f"{path}: not a readable study store ({type(err).__name__}: {err})") from None
+    if stored.attrs.get("fingerprint") != fresh.attrs["fingerprint"]:
+        raise StudyError(f"{path}: made for {_difference(stored, fresh)}; give another --out or remove it")
+    return np.asarray(stored[DONE].values, bool)
+
+
+def _difference(stored: xr.Dataset, fresh: xr.Dataset) -> str:
+    """What a store was made for that this study is not, in words."""
+    if stored.attrs.get("case_text") != fresh.attrs["case_text"]:
+        return "another case (its case text differs)"
+    if stored.attrs.get("grid") != fresh.attrs["grid"]:
+        return f"another grid ({stored.attrs.get('grid')} there, {fresh.attrs['grid']} here)"
+    return "another grid (the values of a varied key differ)"
+
+
+def write_chunk(path: Path, grid: Grid, where: tuple, values: dict) -> None:
+    """Write one finished chunk: its values, then its ``done`` flags."""
+    shape = tuple(s.stop - s.start for s in where)
+    region = dict(zip(grid.dims, where))
+    part = {name: (grid.dims, np.asarray(values[name]).reshape(shape)) for name in (*MEASURES, ERROR)}
+    xr.Dataset(part).to_zarr(path, region=region, **_ZARR)
+    xr.Dataset({DONE: (grid.dims, np.ones(shape, bool))}).to_zarr(path, region=region, **_ZARR)
+
+
+def load(path: Path) -> xr.Dataset:
+    """The whole study from its store, in memory (without the ``done`` flags)."""
+    with xr.open_zarr(path, **_ZARR) as ds:
+        out = ds.load()
+    return out.drop_vars(DONE)
+
+
+def write_netcdf(ds: xr.Dataset, path: Path) -> None:
+    """The study as NetCDF, whole or not at all (written beside, then renamed)."""
+    path = Path(path)
+    partial = path.with_name(path.name + ".partial")
+    ds.to_netcdf(partial)
+    os.replace(partial, path)

@@ -1,0 +1,213 @@
+"""Design studies (issue 11): grids of case keys, single failures, Dask, the store and resume.
+
+The study's measures at a grid point must be those of ``groundres run`` on the
+case with that value written into its file; a study on a local Dask cluster
+of 2 workers must equal the same study computed in this process, bit for bit;
+an interrupted study resumes without computing its finished chunks again.
+"""
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from conftest import HAMMOND_TOML
+from groundres import analyze
+from groundres.cli import main
+from groundres.config import parse_case
+from groundres.studies import StudyError, run, store, study
+from groundres.studies.grid import make_grid, numeric_keys, parse_values
+
+# The Hammond rotor on its hub, a short sweep (Floquet where a damper fails).
+SMALL = HAMMOND_TOML.replace("points = 60", "points = 24").replace("start = 0.5", "start = 10.0")
+
+
+def small_case(text=SMALL):
+    import tomllib
+
+    return parse_case(tomllib.loads(text), "small", text)
+
+
+VARY = {"rotor.lag_damping": "1500:6000:3", "body.damping_x": [2.0e4, 6.0e4]}
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return study(small_case(), VARY, failures="single")
+
+
+def test_grid_dimensions_coordinates_and_attributes(serial):
+    assert serial.max_real_part.dims == ("rotor.lag_damping", "body.damping_x", "failure")
+    assert list(serial.failure.values) == ["none", "blade 1", "blade 2", "blade 3", "blade 4"]
+    np.testing.assert_array_equal(serial["rotor.lag_damping"], [1500.0, 3750.0, 6000.0])
+    assert serial["rotor.lag_damping"].attrs["units"] == "N m s/rad"
+    assert serial["body.damping_x"].attrs["units"] == "N s/m"
+    for name, unit in [
+        ("max_real_part", "1/s"),
+        ("unstable_width", "rad/s"),
+        ("first_unstable_speed", "rad/s"),
+    ]:
+        assert serial[name].attrs["units"] == unit and serial[name].attrs["long_name"]
+    assert serial.attrs["case_text"] == SMALL and serial.attrs["groundres_version"]
+    assert (serial.error.values == "").all()
+    # a failed damper is never better than all working, and the worst is unstable
+    assert (serial.max_real_part.sel(failure="none") <= serial.max_real_part.max("failure")).all()
+
+
+def test_each_point_equals_a_run_of_the_case_with_that_value_written_in(serial):
+    for lag, hub, failure in [
+        (1500.0, 2.0e4, "none"),
+        (6000.0, 6.0e4, "blade 2"),
+        (3750.0, 2.0e4, "blade 4"),
+    ]:
+        text = SMALL.replace("lag_damping = 4067.5", f"lag_damping = {lag!r}")
+        text = text.replace("damping_x = 51078.7", f"damping_x = {hub!r}")
+        if failure != "none":
+            text += f"\n[[rotor.blade]]\nindex = {failure.split()[-1]}\nlag_damping = 0.0\n"
+        stability = analyze(small_case(text), lag_damping_search=False).stability
+        point = serial.sel({"rotor.lag_damping": lag, "body.damping_x": hub, "failure": failure})
+        assert float(point.max_real_part) == stability.max_real_part[0]
+        assert float(point.min_damping_ratio) == stability.min_damping_ratio[0]
+        assert bool(point.stable) == stability.stable
+        widths = sum(b - a for a, b in stability.unstable_ranges)
+        assert float(point.unstable_width) == widths
+        first = stability.unstable_ranges[0][0] if stability.unstable_ranges else np.nan
+        np.testing.assert_equal(float(point.first_unstable_speed), first)
+
+
+@pytest.mark.slow
+def test_a_local_cluster_of_two_workers_equals_the_serial_study(serial):
+    client = run.local_client(2)
+    try:
+        assert len(client.scheduler_info()["workers"]) == 2
+        distributed = study(small_case(), VARY, failures="single", client=client)
+    finally:
+        cluster = client.cluster
+        client.close()
+        cluster.close()
+    xr.testing.assert_identical(distributed, serial)
+
+
+def test_an_interrupted_study_resumes_without_computing_its_finished_chunks(tmp_path, monkeypatch, serial):
+    computed = []
+    original = run.compute_points
+
+    def interrupted(data, source, grid, flats):
+        if len(computed) == 3:
+            raise KeyboardInterrupt
+        computed.append(list(flats))
+        return original(data, source, grid, flats)
+
+    monkeypatch.setattr(run, "compute_points", interrupted)
+    monkeypatch.setattr(run, "CHUNK_COUNT", 1000)  # (small chunks: several for this grid)
+    with pytest.raises(KeyboardInterrupt):
+        study(small_case(), VARY, failures="single", out=tmp_path)
+    first = [tuple(c) for c in computed]
+    assert len(first) == 3
+    computed.clear()
+    monkeypatch.setattr(run, "compute_points", lambda *a: (computed.append(list(a[3])), original(*a))[1])
+    resumed = study(small_case(), VARY, failures="single", out=tmp_path)
+    again = {tuple(c) for c in computed}
+    assert not again & set(first)  # finished chunks are not computed again
+    assert sum(map(len, first)) + sum(map(len, again)) == resumed.max_real_part.size
+    xr.testing.assert_identical(resumed.drop_attrs(), serial.drop_attrs())
+    on_disk = xr.open_dataset(tmp_path / "study.nc").load()
+    np.testing.assert_array_equal(on_disk.max_real_part.values, serial.max_real_part.values)
+
+
+def test_a_store_made_for_another_case_or_grid_is_refused(tmp_path):
+    vary = {"rotor.lag_damping": [2000.0, 4000.0]}
+    study(small_case(), vary, out=tmp_path)
+    other = SMALL.replace("damping_y = 25539.35", "damping_y = 30000.0")
+    with pytest.raises(StudyError, match="another case"):
+        study(small_case(other), vary, out=tmp_path)
+    with pytest.raises(StudyError, match="another grid"):
+        study(small_case(), {"rotor.lag_damping": [2000.0, 5000.0]}, out=tmp_path)
+
+
+def test_a_point_made_invalid_by_its_value_is_recorded_and_the_study_goes_on():
+    ds = study(small_case(), {"rotor.lag_damping": [-100.0, 4067.5]})
+    bad, good = ds.isel({"rotor.lag_damping": 0}), ds.isel({"rotor.lag_damping": 1})
+    assert "lag_damping" in str(bad.error.values) and np.isnan(float(bad.max_real_part))
+    assert str(good.error.values) == "" and np.isfinite(float(good.max_real_part))
+
+
+def test_every_number_key_of_the_format_is_variable():
+    keys = numeric_keys()
+    for key in (
+        "rotor.lag_damping",
+        "body.damping_x",
+        "sweep.stop",
+        "rotor.blade[k].lag_damping",
+        "rotor.blades",
+    ):
+        assert key in keys
+    np.testing.assert_array_equal(parse_values("rotor.blade[2].lag_damping", "0:10:3"), [0.0, 5.0, 10.0])
+    np.testing.assert_allclose(parse_values("body.damping_x", "1:100:3:log"), [1.0, 10.0, 100.0])
+    grid = make_grid(small_case(), {"sweep.stop": "30:40:2", "rotor.blade[2].lag_damping": "0:4000:2"})
+    assert grid.shape == (2, 2)
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--vary", "rotor.lag_dampin=0:1:2"], ["rotor.lag_dampin", "rotor.lag_damping"]),
+        (["--vary", "rotor.flap=0:1:2"], ["rotor.flap", "not a number"]),
+        (["--vary", "rotor.lag_damping=0:1"], ["rotor.lag_damping", "START:STOP:COUNT"]),
+        (["--vary", "rotor.lag_damping=0:1:0"], ["rotor.lag_damping", "COUNT"]),
+        (["--vary", "rotor.lag_damping=a:1:3"], ["rotor.lag_damping", "numbers"]),
+        (["--vary", "rotor.lag_damping=0:1:3:lin"], ["rotor.lag_damping", "log"]),
+        (["--vary", "rotor.lag_damping=0:1:3:log"], ["rotor.lag_damping", "> 0"]),
+        (["--vary", "rotor.blades=2:5:3"], ["rotor.blades", "whole number"]),
+        (["--vary", "rotor.blade[9].lag_damping=0:1:3"], ["blade 9", "blades = 4"]),
+        (["--vary", "rotor.lag_damping"], ["rotor.lag_damping", "KEY="]),
+        (["--vary", "rotor.lag_damping=0:1:2", "--vary", "rotor.lag_damping=0:1:2"], ["twice"]),
+        (
+            ["--vary", "rotor.lag_damping=0:1:2", "--boundary", "body.damping_x"],
+            ["--boundary", "body.damping_x"],
+        ),
+    ],
+)
+def test_bad_vary_options_exit_2_naming_the_key(tmp_path, args, words):
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    result = CliRunner().invoke(main, ["study", str(case), *args, "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output
+    for word in words:
+        assert word in result.output
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.slow
+def test_the_command_writes_the_store_the_netcdf_and_the_map(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    out = tmp_path / "out"
+    args = ["study", str(case), "--vary", "rotor.lag_damping=2000:6000:2", "--failures", "single"]
+    result = CliRunner().invoke(main, [*args, "--out", str(out), "--workers", "2"])
+    assert result.exit_code == 0, result.output
+    for name in ("study.zarr", "study.nc", "map.png", "case.toml", "provenance.json"):
+        assert (out / name).exists()
+    assert "10 grid points" in result.output
+    # the same command again: everything is done, nothing is computed
+    again = CliRunner().invoke(main, [*args, "--out", str(out), "--workers", "1"])
+    assert again.exit_code == 0, again.output
+    assert store.load(out / "study.zarr").max_real_part.shape == (2, 5)
+
+
+def test_the_boundary_search_agrees_with_the_grid_to_its_spacing():
+    from groundres.studies import boundary
+
+    vary = {"rotor.lag_damping": "500:8000:16", "body.damping_x": [2.0e4, 8.0e4]}
+    grid = study(small_case(), vary)
+    edge = boundary(small_case(), vary, "rotor.lag_damping")
+    lag = grid["rotor.lag_damping"].values
+    for hub in (2.0e4, 8.0e4):
+        stable = grid.stable.sel({"body.damping_x": hub}).values
+        assert not stable[0] and stable[-1]  # (a boundary inside the range)
+        first = int(np.argmax(stable))
+        at = float(edge.boundary.sel({"body.damping_x": hub}))
+        assert lag[first - 1] <= at <= lag[first]
+        assert int(edge.evaluations.sel({"body.damping_x": hub})) < len(lag)
+    assert edge.boundary.attrs["units"] == "N m s/rad"
