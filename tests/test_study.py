@@ -66,13 +66,18 @@ def test_each_point_equals_a_run_of_the_case_with_that_value_written_in(serial):
             text += f"\n[[rotor.blade]]\nindex = {failure.split()[-1]}\nlag_damping = 0.0\n"
         stability = analyze(small_case(text), lag_damping_search=False).stability
         point = serial.sel({"rotor.lag_damping": lag, "body.damping_x": hub, "failure": failure})
-        assert float(point.max_real_part) == stability.max_real_part[0]
-        assert float(point.min_damping_ratio) == stability.min_damping_ratio[0]
+        # (blade k's failure on alike blades is blade 1's turned: computed once, equal to the
+        # run of blade k's case to the integration's accuracy, 1e-9 1/s in a real part and
+        # 1e-10 relative in a range end)
+        assert float(point.max_real_part) == pytest.approx(stability.max_real_part[0], rel=1e-9, abs=1e-9)
+        assert float(point.min_damping_ratio) == pytest.approx(stability.min_damping_ratio[0], abs=1e-9)
         assert bool(point.stable) == stability.stable
         widths = sum(b - a for a, b in stability.unstable_ranges)
-        assert float(point.unstable_width) == widths
+        assert float(point.unstable_width) == pytest.approx(widths, rel=1e-9, abs=1e-9)
         first = stability.unstable_ranges[0][0] if stability.unstable_ranges else np.nan
-        np.testing.assert_equal(float(point.first_unstable_speed), first)
+        np.testing.assert_allclose(float(point.first_unstable_speed), first, rtol=1e-10)
+        if failure in ("none", "blade 1"):  # (computed as the run computes them: identical)
+            assert float(point.max_real_part) == stability.max_real_part[0]
 
 
 @pytest.mark.slow

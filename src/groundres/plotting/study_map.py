@@ -19,6 +19,19 @@ MAX_PANELS = 12
 _FAILURE = "failure"
 
 
+def failure_name(failure) -> str:
+    """A failure entry as a reader says it."""
+    return "all dampers working" if failure == "none" else f"{failure}: lag damper failed"
+
+
+def _suptitle(fig, text):
+    """The figure's title, wrapped to the figure's width."""
+    import textwrap
+
+    width = int(fig.get_figwidth() * 11)
+    fig.suptitle("\n".join(textwrap.wrap(figure_title(text), width)), fontsize=10)
+
+
 def _label(ds, key) -> str:
     unit = ds[key].attrs.get("units", "")
     return f"{key} [{unit}]" if unit and unit != "1" else key
@@ -69,7 +82,9 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
         scale = scale or 1.0
         image = None
         for ax, (name, part) in zip(axes, panels):
-            image = _two_keys(ax, part, keys[0], keys[1], scale, design, deutsch)
+            # (the criterion is for identical blades: drawn where every damper works)
+            working = not failures or name.startswith(failure_name("none"))
+            image = _two_keys(ax, part, keys[0], keys[1], scale, design, deutsch if working else None)
             ax.set_title(name, fontsize=9)
         for ax in axes[len(panels) :]:
             ax.set_visible(False)
@@ -78,7 +93,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
             bar.set_label("largest real part [1/s] (red grows)")
         if isinstance(deutsch, str):
             fig.text(0.01, 0.003, f"Deutsch criterion: {deutsch}", fontsize=8, va="bottom")
-    fig.suptitle(figure_title(title or ds.attrs.get("title", "groundres study")), fontsize=10)
+    _suptitle(fig, title or ds.attrs.get("title", "groundres study"))
     return fig
 
 
@@ -86,9 +101,9 @@ def _panels(ds, keys, failures):
     """(title, 2-key data set) for each panel."""
     extra = keys[2:]
     out = []
-    base = [("worst single failure" if failures else "", _worst(ds))]
+    base = [("worst of the single failures" if failures else "", _worst(ds))]
     if failures and not extra:
-        base += [(f"failure: {f}", ds.sel({_FAILURE: f})) for f in failures]
+        base += [(failure_name(f), ds.sel({_FAILURE: f})) for f in failures]
     for name, part in base:
         if not extra:
             out.append((name, part))
@@ -116,25 +131,8 @@ def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
             ax.plot([], [], color="black", linewidth=2.2, label="stability boundary")
     else:
         image = ax.scatter(*np.meshgrid(x, y), c=z, cmap="RdBu_r", vmin=-scale, vmax=scale)
-    if design and xkey in design and ykey in design:
-        ax.plot(
-            design[xkey],
-            design[ykey],
-            marker="*",
-            markersize=14,
-            color="gold",
-            markeredgecolor="black",
-            linestyle="none",
-            label="design point",
-        )
-    if isinstance(deutsch, tuple) and {deutsch[0], deutsch[1]} == {xkey, ykey}:
-        lag, other, values, required = deutsch
-        ok = np.isfinite(required)
-        if ok.any():
-            px, py = (required, values) if lag == xkey else (values, required)
-            ax.plot(
-                px[ok], py[ok], color="#2ca02c", linewidth=1.8, linestyle="--", label="Deutsch requirement"
-            )
+    _mark_design(ax, design, xkey, ykey)
+    _draw_deutsch(ax, deutsch, xkey, ykey)
     ax.set_xlim(x.min(), x.max()) if len(x) > 1 else None
     ax.set_ylim(y.min(), y.max()) if len(y) > 1 else None
     ax.set_xlabel(_label(part, xkey))
@@ -149,8 +147,9 @@ def _one_key(fig, ds, key, failures, design):
     x = np.asarray(ds[key], float)
     series = [(f, ds.sel({_FAILURE: f})) for f in failures] if failures else [("", ds)]
     for name, part in series:
-        ax_real.plot(x, part.max_real_part.values, marker=".", label=f"failure: {name}" if name else None)
-        ax_width.plot(x, part.unstable_width.values, marker=".", label=f"failure: {name}" if name else None)
+        label = failure_name(name) if name else None
+        ax_real.plot(x, part.max_real_part.values, marker=".", label=label)
+        ax_width.plot(x, part.unstable_width.values, marker=".", label=label)
     if failures:
         worst = _worst(ds)
         ax_real.plot(x, worst.max_real_part.values, color="black", linewidth=2.2, label="worst")
@@ -193,7 +192,7 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
             part = stack.sel({_FAILURE: f}) if f is not None else stack
             for i in range(min(part.sizes["_line"], 8)):
                 one = part.isel(_line=i)
-                name = [f"failure: {f}"] if f is not None else []
+                name = [failure_name(f)] if f is not None else []
                 name += [f"{k} = {float(one[k]):.4g}" for k in rest]
                 along, at = np.asarray(one[first], float), np.asarray(one.boundary, float)
                 x, y = (at, along) if keys.index(key) < keys.index(first) else (along, at)
@@ -201,37 +200,23 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
                 if np.isnan(at).all():  # (nothing to draw: the legend says which side the line is on)
                     whole = "stable" if np.asarray(one.stable_at_start).all() else "unstable"
                     label += f": {whole} over the whole range"
+                else:
+                    side = "smaller" if np.asarray(one.stable_at_start)[np.isfinite(at)].all() else "larger"
+                    label += f": stable at {side} {key}"
                 ax.plot(x, y, marker="o", markersize=3, linewidth=1.8, label=label)
         span = sorted(ds.attrs["boundary_range"])
         if keys.index(key) < keys.index(first):
             ax.set_xlim(*span)
-            ax.set_xlabel(f"{key} (stability boundary)")
+            ax.set_xlabel(f"{key} [{ds.boundary.attrs.get('units', '')}] at the stability boundary")
             ax.set_ylabel(_label(ds, first))
         else:
             ax.set_ylim(*span)
-            ax.set_ylabel(f"{key} (stability boundary)")
+            ax.set_ylabel(f"{key} [{ds.boundary.attrs.get('units', '')}] at the stability boundary")
             ax.set_xlabel(_label(ds, first))
-        if design and key in design and first in design:
-            point = (
-                (design[key], design[first])
-                if keys.index(key) < keys.index(first)
-                else (design[first], design[key])
-            )
-            ax.plot(
-                *point,
-                marker="*",
-                markersize=14,
-                color="gold",
-                markeredgecolor="black",
-                linestyle="none",
-                label="design point",
-            )
-        if isinstance(deutsch, tuple) and deutsch[1] == first:
-            lag, _, values, required = deutsch
-            ok = np.isfinite(required)
-            x, y = (required, values) if keys.index(lag) < keys.index(first) else (values, required)
-            ax.plot(x[ok], y[ok], color="#2ca02c", linestyle="--", linewidth=1.6, label="Deutsch requirement")
-        elif isinstance(deutsch, str):
+        xkey, ykey = (key, first) if keys.index(key) < keys.index(first) else (first, key)
+        _mark_design(ax, design, xkey, ykey)
+        _draw_deutsch(ax, deutsch, xkey, ykey)
+        if isinstance(deutsch, str):
             ax.text(0.01, 0.01, f"Deutsch criterion: {deutsch}", transform=ax.transAxes, fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
@@ -240,5 +225,38 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
         ax.set_title(
             f"{missing} line(s) have no boundary in the range (stable or unstable throughout)", fontsize=8
         )
-    fig.suptitle(figure_title(title or ds.attrs.get("title", "groundres stability boundary")), fontsize=10)
+    _suptitle(fig, title or ds.attrs.get("title", "groundres stability boundary"))
     return fig
+
+
+def _mark_design(ax, design, xkey, ykey):
+    """The case's own values of the two keys, a star."""
+    if design and xkey in design and ykey in design:
+        ax.plot(
+            design[xkey],
+            design[ykey],
+            marker="*",
+            markersize=14,
+            color="gold",
+            markeredgecolor="black",
+            linestyle="none",
+            label="design point",
+        )
+
+
+def _draw_deutsch(ax, deutsch, xkey, ykey):
+    """The Deutsch requirement (lag damping against the other key), dashed, where it applies."""
+    if not isinstance(deutsch, tuple) or {deutsch[0], deutsch[1]} != {xkey, ykey}:
+        return
+    lag, _, values, required = deutsch
+    ok = np.isfinite(required)
+    if ok.any():
+        x, y = (required, values) if lag == xkey else (values, required)
+        ax.plot(
+            x[ok],
+            y[ok],
+            color="#2ca02c",
+            linewidth=1.8,
+            linestyle="--",
+            label="Deutsch requirement (all dampers working)",
+        )

@@ -37,9 +37,9 @@ def units_of(case, keys) -> dict:
             out[key] = case.sweep.unit
         elif name in _UNITS:
             out[key] = _UNITS[name]
-        else:  # body keys: mass_x, stiffness_pitch, damping_roll, ...
+        else:  # body keys: mass_x, stiffness_pitch, damping_roll, ... ("" for a key unknown here)
             kind, _, dof = name.partition("_")
-            out[key] = _BODY_UNITS[kind][dof in ("x", "y", "z")]
+            out[key] = _BODY_UNITS.get(kind, ("", ""))[dof in ("x", "y", "z")]
     return out
 
 
@@ -231,9 +231,9 @@ def boundary(
     others = Grid(grid.keys[:i] + grid.keys[i + 1 :], grid.values[:i] + grid.values[i + 1 :], grid.failures)
     span = (float(along[0]), float(along[-1]), len(along))
     flats = np.arange(others.size)
+    per = max(LINES_PER_TASK, len(others.failures))  # (a line's failures in one task: see search.lines)
     batches = [
-        (raw(case), case.source, others, key, span, flats[j : j + LINES_PER_TASK])
-        for j in range(0, others.size, LINES_PER_TASK)
+        (raw(case), case.source, others, key, span, flats[j : j + per]) for j in range(0, others.size, per)
     ]
     found = [
         r

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import parallel
-from .grid import Grid, varied_case
+from .grid import NO_FAILURE, Grid, varied_case
 from .measures import ERROR, MEASURES, empty, failed, of_case
 from .store import chunk_shape, chunks, flat_indices, open_store, write_chunk
 
@@ -27,8 +27,12 @@ CHUNK_COUNT = 64
 
 
 def study_chunk(grid: Grid) -> tuple:
-    """The chunk shape of a study: a function of its grid only (a resume finds the same)."""
-    target = max(1, min(CHUNK_POINTS, grid.size // CHUNK_COUNT))
+    """The chunk shape of a study: a function of its grid only (a resume finds the same).
+
+    The failure dimension is never split: a chunk computes the single failures
+    of alike blades once (:func:`compute_points`).
+    """
+    target = max(len(grid.failures) or 1, min(CHUNK_POINTS, grid.size // CHUNK_COUNT))
     return chunk_shape(grid.shape, target)
 
 
@@ -36,19 +40,39 @@ def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
     """Measures of the grid points ``flats`` (flat indices), in order: arrays.
 
     A point whose case is invalid, or that the model cannot analyse, has NaN
-    measures and its reason in ``error``; the others go on.
+    measures and its reason in ``error``; the others go on. Where the blades
+    are alike but for the failed damper, every single failure is the same
+    rotor seen from another blade (the azimuth origin moved by 2 pi (k - 1)/N):
+    its measures over the sweep are those of the first failure, computed once.
     """
     out = empty(len(flats))
+    seen = {}  # (values, failure or "any blade") -> measures or error
     for j, flat in enumerate(flats):
         values, failure = grid.point(int(flat))
-        try:
-            measured = of_case(varied_case(data, values, failure, source))
-        except Exception as err:  # noqa: BLE001 - recorded with its reason; the study goes on
-            out[ERROR][j] = failed(err)
+        key = (tuple(values.items()), failure_class(data, values, failure, source))
+        if key not in seen:
+            try:
+                seen[key] = of_case(varied_case(data, values, failure, source))
+            except Exception as err:  # noqa: BLE001 - recorded with its reason; the study goes on
+                seen[key] = failed(err)
+        if isinstance(seen[key], str):
+            out[ERROR][j] = seen[key]
             continue
         for name in MEASURES:
-            out[name][j] = measured[name]
+            out[name][j] = seen[key][name]
     return out
+
+
+def failure_class(data, values, failure, source) -> str:
+    """``failure``, or "any blade" where every blade of the point's case is alike (so any
+    single failure is the same rotor turned)."""
+    if failure == NO_FAILURE:
+        return failure
+    try:
+        blades = varied_case(data, values, NO_FAILURE, source).rotor.blades
+    except Exception:  # noqa: BLE001 - the point itself says what is wrong
+        return failure
+    return "any blade" if all(b == blades[0] for b in blades) else failure
 
 
 def compute(data, source, grid, store: Path | None = None, fresh=None, client=None, progress=None):

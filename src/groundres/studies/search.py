@@ -27,7 +27,7 @@ XTOL = 0.1
 VARIABLES = {
     "boundary": ("f8", "value of the key where the sweep's stability changes (NaN: none in the range)"),
     "stable_at_start": ("bool", "the sweep is stable at the start of the key's range"),
-    "evaluations": ("i8", "speed sweeps the search took"),
+    "evaluations": ("i8", "speed sweeps the search took (0: another line's answer, the same rotor turned)"),
 }
 
 
@@ -66,5 +66,19 @@ def line(data, source, others: Grid, key: str, span: tuple, flat: int) -> dict:
 
 
 def lines(data, source, others, key, span, flats) -> list[dict]:
-    """:func:`line` for each of ``flats``."""
-    return [line(data, source, others, key, span, int(i)) for i in flats]
+    """:func:`line` for each of ``flats`` (the single failures of alike blades searched once:
+    :func:`groundres.studies.run.compute_points`)."""
+    from .run import failure_class
+
+    seen, out = {}, []
+    for i in flats:
+        values, failure = others.point(int(i))
+        # (a key of one blade makes the blades differ along the line: nothing shared then)
+        alike = not key.startswith("rotor.blade[")
+        ident = (tuple(values.items()), failure_class(data, values, failure, source) if alike else failure)
+        if ident in seen:  # (no sweep of its own: another line turned)
+            out.append({**seen[ident], "evaluations": 0})
+            continue
+        seen[ident] = line(data, source, others, key, span, int(i))
+        out.append(seen[ident])
+    return out
