@@ -32,6 +32,32 @@ def _suptitle(fig, text):
     fig.suptitle("\n".join(textwrap.wrap(figure_title(text), width)), fontsize=10)
 
 
+def failure_groups(ds, variable: str = "max_real_part") -> list[tuple[str, object]]:
+    """(name, data) of each failure, those with identical measures drawn once (the single
+    failures of alike blades are the same rotor turned: "blades 1, 2, 3, 4")."""
+    groups = []
+    for f in ds[_FAILURE].values:
+        part = ds.sel({_FAILURE: f})
+        for group in groups:
+            if (
+                f != "none"
+                and group[0][0] != "none"
+                and np.array_equal(group[1][variable].values, part[variable].values, equal_nan=True)
+            ):
+                group[0].append(f)
+                break
+        else:
+            groups.append(([f], part))
+    out = []
+    for names, part in groups:
+        if len(names) == 1:
+            out.append((failure_name(names[0]), part))
+        else:
+            blades = ", ".join(n.split()[-1] for n in names)
+            out.append((f"blades {blades}: one lag damper failed (each the same rotor turned)", part))
+    return out
+
+
 def _label(ds, key) -> str:
     unit = ds[key].attrs.get("units", "")
     return f"{key} [{unit}]" if unit and unit != "1" else key
@@ -84,7 +110,16 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
         for ax, (name, part) in zip(axes, panels):
             # (the criterion is for identical blades: drawn where every damper works)
             working = not failures or name.startswith(failure_name("none"))
-            image = _two_keys(ax, part, keys[0], keys[1], scale, design, deutsch if working else None)
+            # (the design point where the panel's further keys hold its own values)
+            here = (
+                design
+                if all(
+                    design and np.isclose(design.get(k, np.nan), v)
+                    for k, v in part.attrs.get("at", {}).items()
+                )
+                else None
+            )
+            image = _two_keys(ax, part, keys[0], keys[1], scale, here, deutsch if working else None)
             ax.set_title(name, fontsize=9)
         for ax in axes[len(panels) :]:
             ax.set_visible(False)
@@ -103,7 +138,7 @@ def _panels(ds, keys, failures):
     out = []
     base = [("worst of the single failures" if failures else "", _worst(ds))]
     if failures and not extra:
-        base += [(failure_name(f), ds.sel({_FAILURE: f})) for f in failures]
+        base += failure_groups(ds)
     for name, part in base:
         if not extra:
             out.append((name, part))
@@ -111,8 +146,11 @@ def _panels(ds, keys, failures):
         stack = part.stack(_panel=extra)
         for i in range(min(stack.sizes["_panel"], MAX_PANELS)):
             one = stack.isel(_panel=i)
-            where = ", ".join(f"{k} = {float(one[k]):.4g}" for k in extra)
-            out.append(((name + "; " if name else "") + where, one.drop_vars(["_panel", *extra])))
+            where = ", ".join(f"{_label(ds, k)} = {float(one[k]):.4g}" for k in extra)
+            at = {k: float(one[k]) for k in extra}
+            out.append(
+                ((name + "; " if name else "") + where, one.drop_vars(["_panel", *extra]).assign_attrs(at=at))
+            )
     return out[:MAX_PANELS]
 
 
@@ -145,9 +183,9 @@ def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
 def _one_key(fig, ds, key, failures, design):
     ax_real, ax_width = fig.subplots(2, 1, sharex=True)
     x = np.asarray(ds[key], float)
-    series = [(f, ds.sel({_FAILURE: f})) for f in failures] if failures else [("", ds)]
+    series = failure_groups(ds) if failures else [("", ds)]
     for name, part in series:
-        label = failure_name(name) if name else None
+        label = name or None
         ax_real.plot(x, part.max_real_part.values, marker=".", label=label)
         ax_width.plot(x, part.unstable_width.values, marker=".", label=label)
     if failures:
@@ -176,7 +214,7 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
 
     key = ds.attrs["boundary_key"]
     others = [k for k in keys if k != key]
-    fig = Figure(figsize=(8.0, 6.0), layout="constrained")
+    fig = Figure(figsize=(8.0, 6.8), layout="constrained")
     ax = fig.subplots()
     failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else [None]
     if not others:
@@ -188,11 +226,11 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
     else:
         first, rest = others[0], others[1:]
         stack = ds.stack(_line=rest) if rest else ds.expand_dims(_line=[0])
-        for f in failures:
-            part = stack.sel({_FAILURE: f}) if f is not None else stack
+        groups = failure_groups(stack, "boundary") if _FAILURE in ds.dims else [(None, stack)]
+        for f, part in groups:
             for i in range(min(part.sizes["_line"], 8)):
                 one = part.isel(_line=i)
-                name = [failure_name(f)] if f is not None else []
+                name = [f] if f is not None else []
                 name += [f"{k} = {float(one[k]):.4g}" for k in rest]
                 along, at = np.asarray(one[first], float), np.asarray(one.boundary, float)
                 x, y = (at, along) if keys.index(key) < keys.index(first) else (along, at)
@@ -219,7 +257,7 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
         if isinstance(deutsch, str):
             ax.text(0.01, 0.01, f"Deutsch criterion: {deutsch}", transform=ax.transAxes, fontsize=8)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", fontsize=7)
     missing = int(np.isnan(np.asarray(ds.boundary.values, float)).sum())
     if missing:
         ax.set_title(
