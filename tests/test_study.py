@@ -216,3 +216,32 @@ def test_the_boundary_search_agrees_with_the_grid_to_its_spacing():
         assert lag[first - 1] <= at <= lag[first]
         assert int(edge.evaluations.sel({"body.damping_x": hub})) < len(lag)
     assert edge.boundary.attrs["units"] == "N m s/rad"
+
+
+@pytest.mark.slow
+def test_the_command_runs_on_an_existing_cluster_by_its_address(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    client = run.local_client(2)
+    try:
+        address = client.scheduler.address
+        args = ["study", str(case), "--vary", "rotor.lag_damping=2000:6000:3", "--scheduler", address]
+        result = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "out")])
+        assert result.exit_code == 0, result.output
+        # the cluster is the user's: the study leaves it running
+        assert len(client.scheduler_info()["workers"]) == 2
+    finally:
+        cluster = client.cluster
+        client.close()
+        cluster.close()
+    ds = xr.open_dataset(tmp_path / "out" / "study.nc")
+    assert ds.max_real_part.shape == (3,)
+
+
+def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    args = ["study", str(case), "--vary", "rotor.lag_damping=2000:6000:3", "--scheduler", "tcp://127.0.0.1:9"]
+    result = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "--scheduler" in result.output and "tcp://127.0.0.1:9" in result.output
