@@ -163,10 +163,11 @@ def local_client(workers: int):
     import dask
     from distributed import Client, LocalCluster
 
+    # (its scheduler's web server on a free port: studies side by side must not collide on 8787)
     environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
     environ.pop("MALLOC_TRIM_THRESHOLD_", None)
     with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
         cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0", silence_logs=40
         )
     return Client(cluster)
