@@ -245,3 +245,84 @@ def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
     result = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "out")])
     assert result.exit_code == 2, result.output
     assert "--scheduler" in result.output and "tcp://127.0.0.1:9" in result.output
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (
+            ["--vary", "rotor.blade[2].lag_damping=0:1:2", "--vary", "rotor.blade[02].lag_damping=0:0:1"],
+            ["twice"],
+        ),
+        (["--vary", "rotor.blade[2].index=1:3:2"], ["rotor.blade[2].index", "no number key"]),
+        (["--vary", "rotor.blades=3:4:2", "--failures", "single"], ["--failures", "rotor.blades"]),
+        (["--vary", "rotor.lag_damping=-1e308:1e308:3"], ["rotor.lag_damping", "too wide"]),
+        (["--vary", "rotor.lag_damping=5:5:3"], ["rotor.lag_damping", "COUNT must be 1"]),
+        (
+            ["--vary", "rotor.lag_damping=0:1:2", "--out", "/proc/groundres-study"],
+            ["--out", "cannot be made"],
+        ),
+    ],
+)
+def test_more_bad_studies_exit_2_before_any_work(tmp_path, args, words):
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    extra = [] if "--out" in args else ["--out", str(tmp_path / "out")]
+    result = CliRunner().invoke(main, ["study", str(case), *args, *extra, "--workers", "1"])
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output
+    for word in words:
+        assert word in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_folder_of_another_study_is_refused(tmp_path):
+    case, other = tmp_path / "case.toml", tmp_path / "other.toml"
+    case.write_text(SMALL)
+    other.write_text(SMALL.replace("damping_y = 25539.35", "damping_y = 30000.0"))
+    out = ["--out", str(tmp_path / "out"), "--workers", "1"]
+    assert (
+        CliRunner()
+        .invoke(main, ["study", str(case), "--vary", "rotor.lag_damping=2000:4000:2", *out])
+        .exit_code
+        == 0
+    )
+    for args, word in [
+        (
+            [str(other), "--vary", "rotor.lag_damping=2000:4000:2", "--boundary", "rotor.lag_damping"],
+            "another case",
+        ),
+        (
+            [str(case), "--vary", "rotor.lag_damping=2000:4000:2", "--boundary", "rotor.lag_damping"],
+            "grid study",
+        ),
+    ]:
+        result = CliRunner().invoke(main, ["study", *args, *out])
+        assert result.exit_code == 2 and word in result.output, result.output
+
+
+def test_a_fault_that_is_not_the_cases_is_not_recorded_as_a_failed_point(tmp_path, monkeypatch):
+    """(A lost worker, memory: the task fails and its chunk is not done, so a resume computes it.)"""
+    from groundres.studies import measures
+
+    original = run.of_case
+
+    def faulty(case):
+        raise MemoryError("out of memory on this node")
+
+    monkeypatch.setattr(run, "of_case", faulty)
+    with pytest.raises(MemoryError):
+        study(small_case(), {"rotor.lag_damping": [2000.0, 4000.0]}, out=tmp_path)
+    monkeypatch.setattr(run, "of_case", original)
+    ds = study(small_case(), {"rotor.lag_damping": [2000.0, 4000.0]}, out=tmp_path)
+    assert (ds.error.values == "").all() and np.isfinite(ds.max_real_part.values).all()
+    assert measures.POINT_ERRORS
+
+
+def test_the_boundary_search_shares_a_failure_only_where_the_blades_are_alike_all_along():
+    """Blade 2's own damper held at the rotor's value: alike at one point of the line only."""
+    from groundres.studies import boundary
+
+    vary = {"rotor.blade[2].lag_damping": [4067.5], "rotor.lag_damping": "500:6000:4"}
+    edge = boundary(small_case(), vary, "rotor.lag_damping", failures="single")
+    assert (edge.evaluations.values > 0).all()

@@ -29,10 +29,21 @@ def parse_vary(items) -> dict:
     return out
 
 
-def check_study_folder(out: Path) -> None:
-    """Refuse a folder that holds files a study did not write (nothing is mixed in)."""
+def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
+    """Refuse a folder that holds files a study did not write, or another study's (nothing
+    is mixed in)."""
     if out.exists() and not out.is_dir():
         fail_user(f"--out {str(out)!r}: exists and is not a folder")
+    copy = out / "case.toml"
+    if copy.is_file() and copy.read_text(encoding="utf-8", errors="replace") != case_text:
+        fail_user(f"--out {str(out)!r}: holds a study of another case; give another folder")
+    other = "study.zarr" if boundary else "boundary.nc"
+    if (out / other).exists():
+        kind = "grid study" if boundary else "boundary search"
+        fail_user(f"--out {str(out)!r}: holds a {kind}; give another folder for this one")
+    for name in ("study.nc", "map.png", "boundary.nc", "case.toml", "provenance.json"):
+        if (out / name).is_dir():
+            fail_user(f"--out {str(out)!r}: {name} there is a folder; give another folder")
     if out.is_dir():
         strangers = sorted(
             p.name for p in out.iterdir() if p.name not in STUDY_FILES and not p.name.endswith(".partial")
@@ -102,13 +113,21 @@ def command(case, vary, failures, out, workers, scheduler, boundary):
     console = make_console()
     the_case = load(case)
     grid = studies.make_grid(the_case, parse_vary(vary), failures)
+    if not out.strip():
+        fail_user(f"--out {out!r}: empty; give a folder, e.g. --out study")
     out_dir = Path(out)
-    check_study_folder(out_dir)
+    boundary = studies.canonical(boundary) if boundary is not None else None
     if boundary is not None and boundary not in grid.keys:
-        fail_user(f"--boundary {boundary}: must be one of the --vary keys ({', '.join(grid.keys)})")
+        fail_user(f"--boundary {boundary!r}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
+    check_study_folder(out_dir, the_case.text, boundary is not None)
     client = _client(scheduler, workers or CORES)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        _close(client)
+        fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
     started = time.perf_counter()
     values = dict(zip(grid.keys, grid.values))
     try:

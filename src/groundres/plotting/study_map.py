@@ -66,9 +66,10 @@ def _label(ds, key) -> str:
 def _worst(ds):
     if _FAILURE not in ds.dims:
         return ds
+    # (a failure that could not be computed leaves the worst unknown: NaN, not skipped)
     return ds.assign(
-        max_real_part=ds.max_real_part.max(_FAILURE),
-        unstable_width=ds.unstable_width.max(_FAILURE),
+        max_real_part=ds.max_real_part.max(_FAILURE, skipna=False),
+        unstable_width=ds.unstable_width.max(_FAILURE, skipna=False),
         stable=ds.stable.all(_FAILURE),
     ).drop_dims(_FAILURE)
 
@@ -151,6 +152,9 @@ def _panels(ds, keys, failures):
             out.append(
                 ((name + "; " if name else "") + where, one.drop_vars(["_panel", *extra]).assign_attrs(at=at))
             )
+    if len(out) > MAX_PANELS:  # (said on the last panel shown)
+        name, part = out[MAX_PANELS - 1]
+        out[MAX_PANELS - 1] = (f"{name} (and {len(out) - MAX_PANELS} more panels not shown)", part)
     return out[:MAX_PANELS]
 
 
@@ -169,6 +173,10 @@ def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
             ax.plot([], [], color="black", linewidth=2.2, label="stability boundary")
     else:
         image = ax.scatter(*np.meshgrid(x, y), c=z, cmap="RdBu_r", vmin=-scale, vmax=scale)
+    bad = ~np.isfinite(z)
+    if bad.any():  # (failed points: no colour of their own, so marked)
+        gx, gy = np.meshgrid(x, y)
+        ax.plot(gx[bad], gy[bad], "kx", markersize=6, linestyle="none", label="failed point (see error)")
     _mark_design(ax, design, xkey, ykey)
     _draw_deutsch(ax, deutsch, xkey, ykey)
     ax.set_xlim(x.min(), x.max()) if len(x) > 1 else None
@@ -235,11 +243,16 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
                 along, at = np.asarray(one[first], float), np.asarray(one.boundary, float)
                 x, y = (at, along) if keys.index(key) < keys.index(first) else (along, at)
                 label = ", ".join(name) or "boundary"
-                if np.isnan(at).all():  # (nothing to draw: the legend says which side the line is on)
-                    whole = "stable" if np.asarray(one.stable_at_start).all() else "unstable"
+                failed = np.asarray(one.error.values, str) != ""
+                start, stop = ds.attrs["boundary_range"]
+                if failed.all():
+                    label += ": failed (see error in boundary.nc)"
+                elif np.isnan(at[~failed]).all():  # (nothing to draw: the legend says which side it is on)
+                    whole = "stable" if np.asarray(one.stable_at_start)[~failed].all() else "unstable"
                     label += f": {whole} over the whole range"
                 else:
-                    side = "smaller" if np.asarray(one.stable_at_start)[np.isfinite(at)].all() else "larger"
+                    at_start = np.asarray(one.stable_at_start)[np.isfinite(at)].all()
+                    side = "smaller" if at_start == (start < stop) else "larger"
                     label += f": stable at {side} {key}"
                 ax.plot(x, y, marker="o", markersize=3, linewidth=1.8, label=label)
         span = sorted(ds.attrs["boundary_range"])
@@ -258,11 +271,16 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
             ax.text(0.01, 0.01, f"Deutsch criterion: {deutsch}", transform=ax.transAxes, fontsize=8)
         ax.grid(alpha=0.3)
         fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", fontsize=7)
-    missing = int(np.isnan(np.asarray(ds.boundary.values, float)).sum())
-    if missing:
-        ax.set_title(
-            f"{missing} line(s) have no boundary in the range (stable or unstable throughout)", fontsize=8
-        )
+    failed = int((np.asarray(ds.error.values, str) != "").sum())
+    missing = int(np.isnan(np.asarray(ds.boundary.values, float)).sum()) - failed
+    notes = (
+        [f"{missing} line(s) have no boundary in the range (stable or unstable throughout)"]
+        if missing
+        else []
+    )
+    notes += [f"{failed} line(s) failed (their reasons in boundary.nc)"] if failed else []
+    if notes:
+        ax.set_title("; ".join(notes), fontsize=8)
     _suptitle(fig, title or ds.attrs.get("title", "groundres stability boundary"))
     return fig
 

@@ -17,12 +17,12 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from .grid import FAILURE, Grid, StudyError, make_grid, raw
+from .grid import FAILURE, Grid, StudyError, canonical, make_grid, raw
 from .measures import ERROR, MEASURES
 from .run import compute, map_batches
 from .store import DONE, load, template, write_netcdf
 
-__all__ = ["study", "boundary", "plot", "write_netcdf", "StudyError", "Grid", "make_grid"]
+__all__ = ["study", "boundary", "plot", "write_netcdf", "canonical", "StudyError", "Grid", "make_grid"]
 
 #: Zarr store and NetCDF file of a study in its output folder.
 ZARR, NETCDF = "study.zarr", "study.nc"
@@ -167,7 +167,8 @@ def deutsch_curve(case, grid: Grid):
 
     if len(grid.keys) != 2:
         return None
-    lags = [k for k in grid.keys if k.endswith("lag_damping")]
+    # (the criterion sizes every blade's damper at once: not drawn against one blade's)
+    lags = [k for k in grid.keys if k == "rotor.lag_damping"]
     if len(lags) != 1:
         return None
     lag = lags[0]
@@ -220,6 +221,7 @@ def boundary(
     from . import search
 
     grid = make_grid(case, vary, failures)
+    key = canonical(key)
     if key not in grid.keys:
         raise StudyError(f"--boundary {key}: must be one of the varied keys ({', '.join(grid.keys)})")
     i = grid.keys.index(key)
@@ -229,7 +231,7 @@ def boundary(
             f"--boundary {key}: its range needs two different ends (START:STOP:COUNT, COUNT >= 2)"
         )
     others = Grid(grid.keys[:i] + grid.keys[i + 1 :], grid.values[:i] + grid.values[i + 1 :], grid.failures)
-    span = (float(along[0]), float(along[-1]), len(along))
+    span = (float(along[0]), float(along[-1]), float(np.abs(np.diff(along)).min()))
     flats = np.arange(others.size)
     per = max(LINES_PER_TASK, len(others.failures))  # (a line's failures in one task: see search.lines)
     batches = [

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._version import __version__
 from ..config import SCHEMA, CaseError, parse_case
 from ..params import Case, shown
 
@@ -34,7 +35,7 @@ MAX_POINTS = 1_000_000
 #: Name of the failure dimension and of its entry with every damper working.
 FAILURE, NO_FAILURE = "failure", "none"
 
-_BLADE = re.compile(r"^rotor\.blade\[(\d+)\]\.([a-z_]+)$")
+_BLADE = re.compile(r"^rotor\.blade\[([0-9]+)\]\.([a-z_]+)$", re.ASCII)
 
 
 class StudyError(CaseError):
@@ -60,12 +61,23 @@ def key_kind(key: str) -> str:
     else:
         table, _, name = key.rpartition(".")
     kind = SCHEMA.get(table, {}).get(name)
-    if kind not in ("a number", "a whole number") or (blade is None and table == "rotor.blade"):
+    if blade is None and table == "rotor.blade" or (blade and name == "index"):
+        kind = None  # (a blade's keys need its index; its index is no design value)
+    if kind not in ("a number", "a whole number"):
         near = difflib.get_close_matches(key, numeric_keys(), n=1, cutoff=0.6)
         hint = f"; did you mean '{near[0]}'?" if near else "; see the case-file keys (docs/case-files.md)"
-        what = f"is {kind}, not a number" if kind else "is no number key of a case file"
+        what = (
+            f"is {kind}, not a number" if kind and "number" not in kind else "is no number key of a case file"
+        )
         raise StudyError(f"--vary {shown(key)}: {what}{hint}")
     return kind
+
+
+def canonical(key: str) -> str:
+    """A varied key as the study names it (``rotor.blade[02].x`` is ``rotor.blade[2].x``)."""
+    key = key.strip()
+    blade = _BLADE.match(key)
+    return f"rotor.blade[{int(blade[1])}].{blade[2]}" if blade else key
 
 
 def parse_values(key: str, spec) -> np.ndarray:
@@ -87,16 +99,24 @@ def parse_values(key: str, spec) -> np.ndarray:
             raise StudyError(f"--vary {key}={shown(spec)}: START and STOP must be finite")
         if not 1 <= count <= MAX_POINTS:
             raise StudyError(f"--vary {key}={shown(spec)}: COUNT = {count} must be from 1 to {MAX_POINTS}")
+        if start == stop and count > 1:
+            raise StudyError(f"--vary {key}={shown(spec)}: START equals STOP, so COUNT must be 1")
         if len(parts) == 4:
             if start <= 0 or stop <= 0:
                 raise StudyError(f"--vary {key}={shown(spec)}: a log range needs START and STOP > 0")
             values = np.geomspace(start, stop, count)
         else:
-            values = np.linspace(start, stop, count)
+            with np.errstate(over="ignore", invalid="ignore"):
+                values = np.linspace(start, stop, count)
+        if not np.isfinite(values).all():
+            raise StudyError(f"--vary {key}={shown(spec)}: the range is too wide for a float")
     else:
-        values = np.atleast_1d(np.asarray(spec, dtype=float))
+        try:
+            values = np.atleast_1d(np.asarray(spec, dtype=float))
+        except (TypeError, ValueError):
+            values = np.array([np.nan])
         if values.ndim != 1 or not len(values) or not np.isfinite(values).all():
-            raise StudyError(f"vary {key}: the values must be a non-empty list of finite numbers")
+            raise StudyError(f"vary {key} = {shown(spec)}: must be a non-empty list of finite numbers")
     if kind == "a whole number":
         if not np.all(values == np.round(values)):
             raise StudyError(
@@ -149,7 +169,8 @@ class Grid:
             "values": [np.asarray(v).tolist() for v in self.values],
             "failures": list(self.failures),
         }
-        text = case_text + "\n" + json.dumps(grid, sort_keys=True)
+        # (and the version: a study resumed by another groundres would mix two versions' results)
+        text = f"{case_text}\n{json.dumps(grid, sort_keys=True)}\n{__version__}"
         return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -157,8 +178,11 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
     """The grid of a study of ``case`` (``vary``: key -> spec, :func:`parse_values`)."""
     if not vary:
         raise StudyError("--vary: at least one key must vary (KEY=START:STOP:COUNT)")
-    keys = tuple(vary)
-    values = tuple(parse_values(k, vary[k]) for k in keys)
+    keys = tuple(canonical(k) for k in vary)
+    for k, given in zip(keys, vary):
+        if keys.count(k) > 1:
+            raise StudyError(f"--vary {given.strip()}: given twice (as {k})")
+    values = tuple(parse_values(k, vary[given]) for k, given in zip(keys, vary))
     data = raw(case)
     for key in keys:
         blade = _BLADE.match(key)
@@ -170,9 +194,21 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
     if failures is not None:
         if failures != "single":
             raise StudyError(f"--failures {shown(failures)}: must be 'single'")
-        working = [i + 1 for i, b in enumerate(case.rotor.blades) if b.lag_damping > 0]
+        if "rotor.blades" in keys:
+            raise StudyError(
+                "--failures single: not with rotor.blades varied (which blade fails would change)"
+            )
+        overrides = {b["index"]: b for b in data["rotor"].get("blade", []) if "index" in b}
+        working = [
+            i + 1
+            for i, b in enumerate(case.rotor.blades)
+            # (working in the case, or given a damper by a varied key)
+            if b.lag_damping > 0
+            or f"rotor.blade[{i + 1}].lag_damping" in keys
+            or ("rotor.lag_damping" in keys and "lag_damping" not in overrides.get(i + 1, {}))
+        ]
         if not working:
-            raise StudyError("--failures single: the case has no working lag damper to fail")
+            raise StudyError("--failures single: no blade of the study has a working lag damper to fail")
         names = (NO_FAILURE, *(f"blade {k}" for k in working))
     grid = Grid(keys, values, names)
     if grid.size > MAX_POINTS:

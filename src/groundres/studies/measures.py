@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..analysis import analyze
+from ..analysis import MethodError, analyze
 from ..config import CaseError
 from ..limits import ModelRangeError
 from ..transition import SpeedRangeError
@@ -28,8 +28,10 @@ MEASURES = {
 #: Why a grid point has no measures ("" where it has).
 ERROR = "error"
 #: Exceptions that make a grid point fail (recorded, the study goes on): a case
-#: made invalid by its values, or one the model cannot resolve.
-POINT_ERRORS = (CaseError, ModelRangeError, SpeedRangeError, ValueError, ArithmeticError)
+#: made invalid by its values, or one the model cannot analyse. Anything else
+#: (a lost worker, memory, a fault) fails the task: it is not marked done, so a
+#: resume computes it again.
+POINT_ERRORS = (CaseError, MethodError, ModelRangeError, SpeedRangeError)
 
 
 def empty(n: int) -> dict:

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import parallel
 from .grid import NO_FAILURE, Grid, varied_case
-from .measures import ERROR, MEASURES, empty, failed, of_case
+from .measures import ERROR, MEASURES, POINT_ERRORS, empty, failed, of_case
 from .store import chunk_shape, chunks, flat_indices, open_store, write_chunk
 
 #: Most points of a task (a Floquet point takes about 0.1-1 s: a task of a few
@@ -53,7 +53,7 @@ def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
         if key not in seen:
             try:
                 seen[key] = of_case(varied_case(data, values, failure, source))
-            except Exception as err:  # noqa: BLE001 - recorded with its reason; the study goes on
+            except POINT_ERRORS as err:  # (recorded with its reason; the study goes on)
                 seen[key] = failed(err)
         if isinstance(seen[key], str):
             out[ERROR][j] = seen[key]
@@ -70,7 +70,7 @@ def failure_class(data, values, failure, source) -> str:
         return failure
     try:
         blades = varied_case(data, values, NO_FAILURE, source).rotor.blades
-    except Exception:  # noqa: BLE001 - the point itself says what is wrong
+    except POINT_ERRORS:  # (the point itself says what is wrong)
         return failure
     return "any blade" if all(b == blades[0] for b in blades) else failure
 

@@ -19,7 +19,7 @@ from scipy.optimize import brentq
 
 from ..stability import growth_threshold
 from .grid import Grid, varied_case
-from .measures import failed, stability_of
+from .measures import POINT_ERRORS, failed, stability_of
 
 #: Boundary tolerance, in grid spacings of the key.
 XTOL = 0.1
@@ -40,9 +40,10 @@ def signed_excess(case) -> float:
 
 
 def line(data, source, others: Grid, key: str, span: tuple, flat: int) -> dict:
-    """The boundary along ``key`` over ``span`` (start, stop, count) of one line of ``others``."""
+    """The boundary along ``key`` over ``span`` (start, stop, the grid's smallest spacing) of one
+    line of ``others``."""
     values, failure = others.point(flat)
-    lo, hi, count = span
+    lo, hi, spacing = span
     evaluations = 0
 
     def f(v):
@@ -54,9 +55,9 @@ def line(data, source, others: Grid, key: str, span: tuple, flat: int) -> dict:
         f_lo, f_hi = f(lo), f(hi)
         at = math.nan
         if (f_lo > 0) != (f_hi > 0):
-            at = brentq(f, lo, hi, xtol=XTOL * abs(hi - lo) / max(count - 1, 1), rtol=1e-12)
+            at = brentq(f, min(lo, hi), max(lo, hi), xtol=XTOL * spacing, rtol=1e-12)
         return {"boundary": at, "stable_at_start": f_lo <= 0, "evaluations": evaluations, "error": ""}
-    except Exception as err:  # noqa: BLE001 - recorded with its reason; the study goes on
+    except POINT_ERRORS as err:  # (recorded with its reason; the study goes on)
         return {
             "boundary": math.nan,
             "stable_at_start": False,
@@ -73,9 +74,13 @@ def lines(data, source, others, key, span, flats) -> list[dict]:
     seen, out = {}, []
     for i in flats:
         values, failure = others.point(int(i))
-        # (a key of one blade makes the blades differ along the line: nothing shared then)
-        alike = not key.startswith("rotor.blade[")
-        ident = (tuple(values.items()), failure_class(data, values, failure, source) if alike else failure)
+        # (alike all along the line: at both ends of a rotor-wide key, whose blade overrides, if
+        # any, stay put while it moves; a key of one blade makes them differ)
+        ends = [{**values, key: v} for v in span[:2]]
+        alike = not key.startswith("rotor.blade[") and all(
+            failure_class(data, end, failure, source) != failure for end in ends
+        )
+        ident = (tuple(values.items()), "any blade" if alike else failure)
         if ident in seen:  # (no sweep of its own: another line turned)
             out.append({**seen[ident], "evaluations": 0})
             continue

@@ -89,6 +89,8 @@ def template(grid: Grid, case, units: dict) -> xr.Dataset:
 def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
     """Create the store (or open the one there for a resume); the points already done."""
     path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise StudyError(f"{path}: exists and is not a study store; give another --out or remove it")
     if not (path / "zarr.json").exists():
         if path.exists() and any(path.iterdir()):
             raise StudyError(f"{path}: exists and is not a study store; give another --out or remove it")
@@ -106,10 +108,17 @@ def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
 
 def _difference(stored: xr.Dataset, fresh: xr.Dataset) -> str:
     """What a store was made for that this study is not, in words."""
+    if stored.attrs.get("groundres_version") != fresh.attrs["groundres_version"]:
+        return (
+            f"groundres {stored.attrs.get('groundres_version')} (this is {fresh.attrs['groundres_version']})"
+        )
     if stored.attrs.get("case_text") != fresh.attrs["case_text"]:
         return "another case (its case text differs)"
     if stored.attrs.get("grid") != fresh.attrs["grid"]:
         return f"another grid ({stored.attrs.get('grid')} there, {fresh.attrs['grid']} here)"
+    for key in fresh.coords:
+        if key in stored.coords and not np.array_equal(np.asarray(stored[key]), np.asarray(fresh[key])):
+            return f"another grid (the values of {key} differ)"
     return "another grid (the values of a varied key differ)"
 
 
