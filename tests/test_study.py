@@ -198,6 +198,7 @@ def test_the_command_writes_the_store_the_netcdf_and_the_map(tmp_path):
     # the same command again: everything is done, nothing is computed
     again = CliRunner().invoke(main, [*args, "--out", str(out), "--workers", "1"])
     assert again.exit_code == 0, again.output
+    assert "10 of them were found done in the store" in again.output
     assert store.load(out / "study.zarr").max_real_part.shape == (2, 5)
 
 

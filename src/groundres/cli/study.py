@@ -144,7 +144,10 @@ def command(case, vary, failures, out, workers, scheduler, boundary):
     io.write_figure(studies.plot(ds, the_case, grid), out_dir / "map.png")
     folders.write_provenance(out_dir, the_case, command="study", **invocation())
     seconds = time.perf_counter() - started
-    (_report if boundary is None else _report_boundary)(console, ds, grid, out_dir, seconds)
+    if boundary is None:
+        _report(console, ds, grid, out_dir, seconds, progress.first or 0)
+    else:
+        _report_boundary(console, ds, grid, out_dir, seconds)
 
 
 def _client(scheduler, workers):
@@ -172,6 +175,7 @@ class _Progress:
 
     def __init__(self, console, what):
         self.console, self.what, self.bar, self.task = console, what, None, None
+        self.first = None  # (points found done in the store when the study started)
 
     def __enter__(self):
         if self.console.is_terminal:
@@ -196,14 +200,16 @@ class _Progress:
                 transient=True,
             )
             self.bar.start()
-            self.first, self.started = None, time.perf_counter()
+        self.started = time.perf_counter()
         return self
 
     def __call__(self, done, total):
+        if self.first is None:
+            self.first = done
         if self.bar is None:
             return
         if self.task is None:
-            self.task, self.first = self.bar.add_task("study", total=total, rate=""), done
+            self.task = self.bar.add_task("study", total=total, rate="")
         elapsed = time.perf_counter() - self.started
         rate = f"{(done - self.first) / elapsed:.2f}/s" if elapsed > 0 and done > self.first else ""
         self.bar.update(self.task, completed=done, total=total, rate=rate)
@@ -213,7 +219,7 @@ class _Progress:
             self.bar.stop()
 
 
-def _report(console, ds, grid, out_dir, seconds):
+def _report(console, ds, grid, out_dir, seconds, reused=0):
     import numpy as np
 
     failed = int((ds.error.values != "").sum())
@@ -222,6 +228,8 @@ def _report(console, ds, grid, out_dir, seconds):
         f"Study of {grid.size} grid points ({' x '.join(map(str, grid.shape))}: {', '.join(grid.dims)}) "
         f"in {seconds:.1f} s: {stable} stable, {grid.size - stable - failed} unstable, {failed} failed."
     )
+    if reused:
+        console.print(f"{reused} of them were found done in the store (an earlier run of this study).")
     if failed:
         first = ds.error.values.ravel()[np.flatnonzero(ds.error.values.ravel() != "")[0]]
         console.print(f"A failed point's reason: {first}", markup=False)
