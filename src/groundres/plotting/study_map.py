@@ -224,13 +224,28 @@ def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str 
     others = [k for k in keys if k != key]
     fig = Figure(figsize=(8.0, 6.8), layout="constrained")
     ax = fig.subplots()
-    failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else [None]
-    if not others:
-        names = [str(f) if f is not None else "" for f in failures]
-        ax.bar(range(len(names)), np.atleast_1d(ds.boundary.values), color="#1f77b4")
-        ax.set_xticks(range(len(names)), names)
-        ax.set_ylabel(_label(ds, key) if key in ds.coords else key)
-        ax.set_ylim(*sorted(ds.attrs["boundary_range"]))
+    if not others:  # (one value per failure, identical ones once: a point each, and what it means)
+        groups = failure_groups(ds, "boundary") if _FAILURE in ds.dims else [("", ds)]
+        start, stop = ds.attrs["boundary_range"]
+        lo, hi = sorted((start, stop))
+        for i, (_, part) in enumerate(groups):
+            value = float(np.asarray(part.boundary.values, float).ravel()[0])
+            stable = bool(np.asarray(part.stable_at_start.values).ravel()[0])
+            error = str(np.asarray(part.error.values).ravel()[0])
+            if error:
+                text, where = "failed (see boundary.nc)", lo
+            elif np.isnan(value):
+                text, where = f"{'stable' if stable else 'unstable'} over the whole range", lo
+            else:
+                ax.plot(value, i, "o", color="#1f77b4", markersize=8)
+                side = "smaller" if stable == (start < stop) else "larger"
+                text, where = f"{value:.5g}: stable at {side} values", value
+            ax.annotate(text, (where, i), fontsize=8, xytext=(8, 6), textcoords="offset points")
+        ax.set_yticks(range(len(groups)), [name for name, _ in groups], fontsize=8)
+        ax.set_ylim(-0.5, len(groups) - 0.5)
+        ax.set_xlabel(f"{key} [{ds.boundary.attrs.get('units', '')}] at the stability boundary")
+        ax.set_xlim(lo, hi)
+        ax.grid(alpha=0.3)
     else:
         first, rest = others[0], others[1:]
         stack = ds.stack(_line=rest) if rest else ds.expand_dims(_line=[0])
