@@ -26,6 +26,8 @@ from .store import chunk_shape, chunks, flat_indices, open_store, write_chunk
 CHUNK_POINTS = 32
 #: Tasks wanted for a study, at least (load balance over a cluster's workers).
 CHUNK_COUNT = 64
+#: The class of a single failure of alike blades: any of them is the same rotor turned.
+ANY_BLADE = "any blade"
 
 
 def study_chunk(grid: Grid) -> tuple:
@@ -48,7 +50,7 @@ def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
     its measures over the sweep are those of the first failure, computed once.
     """
     out = empty(len(flats))
-    seen = {}  # (values, failure or "any blade") -> measures or error
+    seen = {}  # (values, failure or ANY_BLADE) -> measures or error
     for j, flat in enumerate(flats):
         values, failure = grid.point(int(flat))
         key = (tuple(values.items()), failure_class(data, values, failure, source))
@@ -66,7 +68,7 @@ def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
 
 
 def failure_class(data, values, failure, source) -> str:
-    """``failure``, or "any blade" where every blade of the point's case is alike (so any
+    """``failure``, or :data:`ANY_BLADE` where every blade of the point's case is alike (so any
     single failure is the same rotor turned)."""
     if failure == NO_FAILURE:
         return failure
@@ -74,7 +76,7 @@ def failure_class(data, values, failure, source) -> str:
         blades = varied_case(data, values, NO_FAILURE, source).rotor.blades
     except POINT_ERRORS:  # (the point itself says what is wrong)
         return failure
-    return "any blade" if all(b == blades[0] for b in blades) else failure
+    return ANY_BLADE if all(b == blades[0] for b in blades) else failure
 
 
 def compute(data, source, grid, store: Path | None = None, fresh=None, client=None, progress=None):

@@ -69,7 +69,7 @@ def line(data, source, others: Grid, key: str, span: tuple, flat: int) -> dict:
 def lines(data, source, others, key, span, flats) -> list[dict]:
     """:func:`line` for each of ``flats`` (the single failures of alike blades searched once:
     :func:`groundres.studies.run.compute_points`)."""
-    from .run import failure_class
+    from .run import ANY_BLADE, failure_class
 
     seen, out = {}, []
     for i in flats:
@@ -80,7 +80,7 @@ def lines(data, source, others, key, span, flats) -> list[dict]:
         alike = not key.startswith("rotor.blade[") and all(
             failure_class(data, end, failure, source) != failure for end in ends
         )
-        ident = (tuple(values.items()), "any blade" if alike else failure)
+        ident = (tuple(values.items()), ANY_BLADE if alike else failure)
         if ident in seen:  # (no sweep of its own: another line turned)
             out.append({**seen[ident], "evaluations": 0})
             continue

@@ -26,7 +26,7 @@ from .grid import FAILURE, Grid, StudyError
 from .measures import ERROR, MEASURES, empty
 
 DONE = "done"
-#: Units of the speed keys' values by the case's sweep unit are the case's own.
+#: The store is written without consolidated metadata (not part of the Zarr v3 format).
 _ZARR = {"consolidated": False}
 
 
