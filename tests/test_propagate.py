@@ -79,7 +79,7 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
     w = np.array([12.0, 20.0, 30.0])
     c = np.array([0.0, 2500.0, 40000.0])
     both = transition.transition(split, w, angle, 64)[0]
-    each = transition.transition(split, w, angle, 64, lag_damping=c, compiled=True)[0]
+    each = transition.transition(split, w, angle, 64, damping=c, compiled=True)[0]
     for i in range(3):
         rebuilt = transition.transition(
             system.with_lag_damping(c[i]), w[i : i + 1], angle, 64, compiled=False
@@ -88,7 +88,7 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
     assert relative(both[:1], each[:1]).max() < 1e-12  # (c = 0: the split system itself)
     assert system.with_lag_damping(c[1]).rotor.blades[0].lag_damping == 0.0  # (blade 1 failed)
     sym = floquet.symmetry(system)  # (the full period: c = 0 alone would repeat every quarter turn)
-    ours = floquet.solve(split, w, harmonics=0, lag_damping=c, sym=sym)
+    ours = floquet.solve(split, w, harmonics=0, damping=c, sym=sym)
     for i in range(3):
         alone = floquet.solve(system.with_lag_damping(c[i]), w[i : i + 1], harmonics=0, sym=sym)
         np.testing.assert_allclose(

@@ -273,7 +273,7 @@ class _Floquet(_Solver):
         if self.lag_damping is None:
             return floquet.solve(self.system, speeds, **kw)
         split, sym = self.split
-        return floquet.solve(split, speeds, lag_damping=self.lag_damping, sym=sym, **kw)
+        return floquet.solve(split, speeds, damping=self.lag_damping, sym=sym, **kw)
 
     def roots(self, speeds):
         return self._solve(speeds, harmonics=0).exponent

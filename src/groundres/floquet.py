@@ -55,6 +55,7 @@ from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for call
     frozen_rates,
     integrate,
     ordered_product,
+    per_speed,
     rates_per_radian,
     transition,
 )
@@ -302,7 +303,7 @@ def solve(
     tableau=DOP8,
     lift: bool = True,
     progress=None,
-    lag_damping=None,
+    damping=None,
     sym: Symmetry | None = None,
     compiled: bool | None = None,
     bounds: bool = False,
@@ -326,11 +327,11 @@ def solve(
         smallest do, but the real parts of strongly damped roots are not.
     progress : callable, optional
         ``progress(done, total)`` in speeds, called as batches of speeds are done.
-    lag_damping : float or ndarray (n_s,), optional
-        Lag damping on the working dampers at each speed [in the system's
-        units]; ``system`` is then the split one
-        (:meth:`groundres.system.System.lag_damping_split`): one set of node
-        matrices serves every damping.
+    damping : float or ndarray (n_s,) or (n_s, d), optional
+        Damping along the system's d damping directions at each speed [in the
+        system's units] (:func:`groundres.nodes.per_speed`); ``system`` is then
+        a split one (:meth:`groundres.system.System.split_damping`): one set
+        of node matrices serves every damping.
     sym : Symmetry, optional
         The symmetry to use (that of the system with its dampers, where
         ``system`` is a split one, whose blades may look more alike).
@@ -344,7 +345,7 @@ def solve(
     """
     speeds = np.asarray(speeds, dtype=float)
     sym = symmetry(system) if sym is None else sym
-    damping = None if lag_damping is None else np.broadcast_to(np.asarray(lag_damping, float), speeds.shape)
+    damping = per_speed(damping, len(speeds))
     n = system.size
     m = 2 * n
     n_s = len(speeds)
@@ -366,7 +367,7 @@ def solve(
         period = sym.angle / speeds[moving].min() if len(moving) else 1.0
         mass, damp, stiff = system.matrices(speeds[still], 0.0)
         if damping is not None:
-            damp = damp + damping[still, None, None] * system.damping_direction
+            damp = damp + np.einsum("sd,dij->sij", damping[still], system.damping_directions)
         lam, x = np.linalg.eig(state_matrix(mass, damp, stiff))
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)
         if bounds:
@@ -379,11 +380,9 @@ def solve(
     if len(moving):
         c_moving = None if damping is None else damping[moving]
         if lift or harmonics:
-            rate[moving], low[moving], high[moving] = frozen_rates(
-                system, speeds[moving], lag_damping=c_moving
-            )
+            rate[moving], low[moving], high[moving] = frozen_rates(system, speeds[moving], damping=c_moving)
         else:  # (the real parts' spread only decides lifting: the rates set the first step counts)
-            rate[moving] = rates_per_radian(system, speeds[moving], lag_damping=c_moving)
+            rate[moving] = rates_per_radian(system, speeds[moving], damping=c_moving)
     n_sym = system.n_blades // sym.shift
 
     def samples(r):

@@ -7,8 +7,9 @@ C0 + Omega C1 and stiffness K0 + Omega K1 + Omega^2 K2:
 
     F_a = -M^-1 [K2, C1],   F_b = -M^-1 [K1, C0],   F_c = -M^-1 [K0, 0],
 
-and, for a lag damping c set on the working dampers (C0 + c dC/dc),
-F_d = -M^-1 [0, dC/dc] with coefficient c / Omega.
+and, for dampings c_j set per speed along the system's damping directions
+(C0 + sum_j c_j D_j: a lag damping on the working dampers, or the damping
+keys a design study varies), F_j = -M^-1 [0, D_j] with coefficient c_j / Omega.
 
 Every coefficient is a trigonometric polynomial of degree two in the azimuth,
 so the matrices are fitted exactly from five azimuths (at three speeds, which
@@ -49,7 +50,7 @@ def _harmonic_basis(psi, degree: int = 2):
 
 
 class _Harmonics:
-    """The harmonics of M and of the right-hand sides [K2, C1, K1, C0, K0 (, dC/dc)] of one system."""
+    """The harmonics of M and of the right-hand sides [K2, C1, K1, C0, K0, D_1, ...] of one system."""
 
     def __init__(self, system: System):
         theta = 2 * np.pi * np.arange(5) / 5
@@ -60,8 +61,8 @@ class _Harmonics:
         k2 = (k[:, 2] - 2 * k[:, 1] + k0) / 2
         k1 = k[:, 1] - k0 - k2
         blocks = [k2, c1, k1, c0, k0]
-        if system.damping_direction is not None:
-            blocks.append(np.broadcast_to(system.damping_direction, k0.shape))
+        for direction in system.damping_directions:
+            blocks.append(np.broadcast_to(direction, k0.shape))
         fit = np.linalg.inv(_harmonic_basis(theta))
         self.n = n = m.shape[-1]
         self.mass = np.einsum("hj,jab->hab", fit, m[:, 0])  # (5, n, n)
@@ -90,7 +91,7 @@ class _Harmonics:
             self.e = np.einsum("ht,tab->hab", fit9, e9)
 
     def solve(self, psi, sign: float = 1.0) -> np.ndarray:
-        """``sign`` M(psi)^-1 [K2, C1, K1, C0, K0 (, dC/dc)](psi): (..., n, W)."""
+        """``sign`` M(psi)^-1 [K2, C1, K1, C0, K0, D_1, ...](psi): (..., n, W)."""
         psi = np.asarray(psi, dtype=float)
         basis = _harmonic_basis(psi).reshape(-1, 5)
 
@@ -121,19 +122,26 @@ def _harmonics(system: System) -> _Harmonics:
     return fit
 
 
-#: Which half of [q; q'] each block of :func:`node_blocks` multiplies (0: q, 1: q').
-HALVES = (0, 1, 0, 1, 0, 1)
+#: Which half of [q; q'] the first five blocks of :func:`node_blocks` multiply
+#: (0: q, 1: q'); every damping direction after them multiplies q'.
+HALVES = (0, 1, 0, 1, 0)
 
 
-def node_blocks(system: System, psi, damping: bool = False) -> np.ndarray:
-    """-M^-1 [K2, C1, K1, C0, K0 (, dC/dc)] at azimuths ``psi`` (any shape): (..., n, 5n or 6n).
+def halves(blocks: int) -> tuple:
+    """The half of [q; q'] each of ``blocks`` blocks multiplies (:data:`HALVES`, then q')."""
+    return HALVES[:blocks] + (1,) * (blocks - len(HALVES))
+
+
+def node_blocks(system: System, psi, directions: int = 0) -> np.ndarray:
+    """-M^-1 [K2, C1, K1, C0, K0, D_1 .. D_d] at azimuths ``psi`` (any shape): (..., n, (5 + d) n).
 
     The node matrices in compact form: F = sum_b coef_b X_b placed on the
-    half :data:`HALVES` [b] of [q; q'] (:func:`node_coefficients`); dC/dc (with
-    ``damping``) needs a system from :meth:`groundres.system.System.lag_damping_split`.
+    half :func:`halves` [b] of [q; q'] (:func:`node_coefficients`); the first
+    ``directions`` damping directions D_j of the system
+    (:attr:`groundres.system.System.damping_directions`) are included.
     """
     x = _harmonics(system).solve(psi, sign=-1.0)
-    return x if damping else x[..., : 5 * system.size]
+    return x[..., : (5 + directions) * system.size]
 
 
 def expand(blocks: np.ndarray, coef: np.ndarray) -> np.ndarray:
@@ -141,8 +149,7 @@ def expand(blocks: np.ndarray, coef: np.ndarray) -> np.ndarray:
     n = blocks.shape[-2]
     out = np.zeros(coef.shape[:1] + blocks.shape[:-1] + (2 * n,))
     shape = (len(coef),) + (1,) * blocks.ndim
-    for b in range(coef.shape[1]):
-        half = HALVES[b]
+    for b, half in enumerate(halves(coef.shape[1])):
         out[..., half * n : (half + 1) * n] += coef[:, b].reshape(shape) * blocks[..., b * n : (b + 1) * n]
     return out
 
@@ -155,9 +162,9 @@ def node_matrices(system: System, psi) -> tuple[np.ndarray, ...]:
     return tuple(expand(node_blocks(system, psi), np.repeat(np.eye(3), 2, axis=1)[:, :5]))
 
 
-def grid_values(n: int, steps: int, stages: int, damping: bool = False) -> int:
+def grid_values(n: int, steps: int, stages: int, directions: int = 0) -> int:
     """Values of a grid of node blocks (:func:`grid_nodes`) for ``n`` coordinates."""
-    return steps * stages * n * n * (6 if damping else 5)
+    return steps * stages * n * n * (5 + directions)
 
 
 def grid_nodes(
@@ -167,7 +174,7 @@ def grid_nodes(
     tableau,
     first: int = 0,
     last: int | None = None,
-    damping: bool = False,
+    directions: int = 0,
 ) -> np.ndarray:
     """:func:`node_blocks` at the stage nodes of steps first..last of a fixed grid: (k, stages, n, W).
 
@@ -177,19 +184,19 @@ def grid_nodes(
     """
     last = steps if last is None else last
     h = angle / steps
-    size = grid_values(system.size, steps, len(tableau.c), damping)
+    size = grid_values(system.size, steps, len(tableau.c), directions)
 
     def evaluated(a, b):  # (steps a..b, in parts over the pool's threads: NumPy releases the GIL)
         rows = np.array_split(np.arange(a, b), min(CORES, max(1, (b - a) // 8)))
         parts = map_threads(
-            lambda r: node_blocks(system, (r[:, None] + tableau.c[None, :]) * h, damping), rows
+            lambda r: node_blocks(system, (r[:, None] + tableau.c[None, :]) * h, directions), rows
         )
         return np.concatenate(parts) if len(parts) > 1 else parts[0]
 
     if size > GRID_CACHE_SIZE:
         return evaluated(first, last)
     cache = system.grid_cache
-    key = (angle, int(steps), id(tableau), damping)
+    key = (angle, int(steps), id(tableau), directions)
     with _CACHE_LOCK:  # (one thread builds a grid; the others wait for it)
         if key in cache:
             cache[key] = cache.pop(key)  # (the most recently used last)
@@ -201,36 +208,57 @@ def grid_nodes(
         return cache[key][first:last]
 
 
-def node_coefficients(speeds, lag_damping=None) -> np.ndarray:
-    """Per-speed coefficients of the blocks of :func:`node_blocks`: (n_s, 5 or 6).
+def per_speed(damping, n_s: int):
+    """Dampings along the damping directions at each speed, (n_s, d) (None stays None).
 
-    (1, 1, 1/Omega, 1/Omega, 1/Omega^2) and, with ``lag_damping`` (per speed,
-    in the system's units), c / Omega.
+    ``damping``: a number or (n_s,) for one direction, or (n_s, d).
+    """
+    if damping is None:
+        return None
+    damping = np.asarray(damping, dtype=float)
+    if damping.ndim < 2:
+        damping = np.broadcast_to(damping, (n_s,))[:, None]
+    return np.broadcast_to(damping, (n_s, damping.shape[1]))
+
+
+def directions_of(damping) -> int:
+    """How many damping directions per-speed dampings (:func:`per_speed`) set."""
+    return 0 if damping is None else 1 if np.ndim(damping) < 2 else np.shape(damping)[1]
+
+
+def node_coefficients(speeds, damping=None) -> np.ndarray:
+    """Per-speed coefficients of the blocks of :func:`node_blocks`: (n_s, 5 + d).
+
+    (1, 1, 1/Omega, 1/Omega, 1/Omega^2) and, with ``damping`` (per speed along
+    the system's d damping directions, :func:`per_speed`, in the system's
+    units), c_j / Omega.
     """
     inv = 1.0 / np.asarray(speeds, dtype=float)
     cols = [np.ones_like(inv), np.ones_like(inv), inv, inv, inv**2]
-    if lag_damping is not None:
-        cols.append(np.broadcast_to(lag_damping, inv.shape) * inv)
+    if damping is not None:
+        cols += list((per_speed(damping, len(inv)) * inv[:, None]).T)
     return np.stack(cols, 1)
 
 
-def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
+def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
     """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
 
-    With ``lag_damping`` (per speed) the system is a split one
-    (:meth:`groundres.system.System.lag_damping_split`).
+    With ``damping`` (per speed along the system's damping directions,
+    :func:`per_speed`) the system is a split one
+    (:meth:`groundres.system.System.split_damping`).
     """
     from .modal import batched  # (threads for a long batch)
 
     speeds = np.asarray(speeds, dtype=float)
-    damping = lag_damping is not None
-    key = f"frozen-{probes}-{damping}"  # (the same few azimuths every time: their blocks are kept)
+    damping = per_speed(damping, len(speeds))
+    directions = directions_of(damping)
+    key = f"frozen-{probes}-{directions}"  # (the same few azimuths every time: their blocks are kept)
     with _CACHE_LOCK:
         blocks = system.grid_cache.get(key)
         if blocks is None:
             psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
-            blocks = system.grid_cache[key] = node_blocks(system, psi, damping)
-    f = np.swapaxes(expand(blocks, node_coefficients(speeds, lag_damping)), 0, 1)
+            blocks = system.grid_cache[key] = node_blocks(system, psi, directions)
+    f = np.swapaxes(expand(blocks, node_coefficients(speeds, damping)), 0, 1)
     n = f.shape[-2]
     a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
@@ -238,14 +266,12 @@ def frozen_roots(system: System, speeds, probes=2, lag_damping=None) -> np.ndarr
     return batched(np.linalg.eigvals, a.reshape((-1,) + a.shape[-2:])).reshape(a.shape[:-1])
 
 
-def rates_per_radian(system: System, speeds, probes=2, lag_damping=None) -> np.ndarray:
+def rates_per_radian(system: System, speeds, probes=2, damping=None) -> np.ndarray:
     """Fastest rate of the azimuth-domain system [1/rad] at each speed (from a few azimuths)."""
-    return np.abs(frozen_roots(system, speeds, probes, lag_damping)).max(-1).max(0)
+    return np.abs(frozen_roots(system, speeds, probes, damping)).max(-1).max(0)
 
 
-def frozen_rates(
-    system: System, speeds, probes=4, lag_damping=None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def frozen_rates(system: System, speeds, probes=4, damping=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Fastest rate per radian and smallest, largest real part [1/s] from one frozen solve.
 
     (:func:`rates_per_radian` and the real parts at once; azimuths 0, pi/2, pi,
@@ -255,6 +281,6 @@ def frozen_rates(
     before it has any root.
     """
     speeds = np.asarray(speeds, dtype=float)
-    roots = frozen_roots(system, speeds, probes, lag_damping)
+    roots = frozen_roots(system, speeds, probes, damping)
     real = roots.real * speeds[:, None]
     return np.abs(roots).max(-1).max(0), real.min(-1).min(0), real.max(-1).max(0)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .nodes import expand, grid_nodes, node_coefficients
+from .nodes import directions_of, expand, grid_nodes, node_coefficients
 from .parallel import CORES, map_threads
 from .system import System
 
@@ -82,7 +82,7 @@ def plan_runs(steps: int, blocks: int, room: int) -> list:
     ]
 
 
-def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, lag_damping):
+def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, damping):
     """:func:`groundres.transition.transition` by NumPy: every step's propagator formed
     at once, then their product.
 
@@ -91,8 +91,8 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, l
     where they are short, pieces of a part multiplied together where long.
     """
     speeds = np.asarray(speeds, dtype=float)
-    damping = lag_damping is not None
-    coef_all = node_coefficients(speeds, lag_damping)
+    directions = directions_of(damping)
+    coef_all = node_coefficients(speeds, damping)
     h = angle / steps
     n = system.size
     n2 = 2 * n
@@ -106,12 +106,12 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, l
         sel, (b0, b1, pieces) = item
         coef = coef_all[sel]
         if len(pieces) == 1:
-            nodes = grid_nodes(system, angle, steps, tableau, *pieces[0], damping)
+            nodes = grid_nodes(system, angle, steps, tableau, *pieces[0], directions)
             props = _step_propagators(nodes, coef, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
             return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))
         out = None
         for s0, s1 in pieces:
-            nodes = grid_nodes(system, angle, steps, tableau, s0, s1, damping)
+            nodes = grid_nodes(system, angle, steps, tableau, s0, s1, directions)
             p = ordered_product(_step_propagators(nodes, coef, h, tableau))
             out = p if out is None else p @ out
         return out[None]

@@ -5,9 +5,9 @@ integrated for the transition matrix itself, one speed after another, with
 the twelve stages of the Dormand-Prince eighth-order method on a fixed grid
 of nodes. F at a node is a combination of a few blocks with per-speed
 coefficients (1, 1/Omega, 1/Omega^2 for the inertia, damping-and-Coriolis
-and spring terms; c/Omega for a lag damping c set per speed,
-:mod:`groundres.nodes`), so one grid of nodes serves every speed and every
-lag damping. Each stage costs one
+and spring terms; c/Omega for a damping c set per speed along a damping
+direction, :mod:`groundres.nodes`), so one grid of nodes serves every speed
+and every damping. Each stage costs one
 product of an n x 2n block with a 2n x 2n matrix; nothing is formed twice.
 
 Error control comes from the method's embedded estimators (the fifth- and
@@ -39,7 +39,7 @@ import stat
 import numpy as np
 
 from . import _dop853
-from .nodes import HALVES
+from .nodes import halves as block_halves
 from .parallel import CORES, map_threads
 
 #: Weights of the embedded fifth- and third-order error estimators of DOP853
@@ -321,7 +321,7 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     nodes = np.ascontiguousarray(nodes, dtype=float)
     coef = np.ascontiguousarray(coef, dtype=float)
     n_s, m = coef.shape[0], 2 * nodes.shape[-2]
-    halves = np.array(HALVES[: coef.shape[1]], dtype=np.int64)
+    halves = np.array(block_halves(coef.shape[1]), dtype=np.int64)
     out = np.empty((n_s, parts, m, m))
     err = np.empty(n_s)
     compiled = kernel(wait=True)

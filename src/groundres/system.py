@@ -55,8 +55,10 @@ class System:
         self.working = [b.lag_damping > 0 for b in rotor.blades]
         if not any(self.working):
             self.working = [True] * self.n_blades
-        #: dC/dc of a lag damping c set on the working dampers (:meth:`lag_damping_split`).
-        self.damping_direction = None
+        #: Damping matrices D_j (d, n, n), constant in azimuth, along which a split
+        #: system takes dampings c_j set per speed, C = C_0 + sum_j c_j D_j
+        #: (:meth:`split_damping`); none (d = 0) in a plain system.
+        self.damping_directions = np.zeros((0, self.size, self.size))
 
     @cached_property
     def coordinates(self) -> list[Coordinate]:
@@ -150,13 +152,34 @@ class System:
 
         The damping matrix is affine in the lag damping c set on every working
         damper: C(c) = C_0 + c dC/dc, with C_0 that of the returned system and
-        dC/dc (n, n), constant in azimuth (a lag damper acts between a blade and
-        the hub, both turning with the rotor), in its ``damping_direction``.
+        dC/dc its one damping direction (:meth:`split_damping`).
         """
-        off, unit = self.with_lag_damping(0.0), self.with_lag_damping(1.0)
+        off = self.with_lag_damping(0.0).split_damping([self.with_lag_damping(1.0)])
         off.working = list(self.working)  # (without dampers it would mark every blade working)
-        off.damping_direction = unit.matrices(np.zeros(1))[1, 0] - off.matrices(np.zeros(1))[1, 0]
         return off
+
+    def split_damping(self, units) -> System:
+        """This system, whose dampings are off, carrying the damping directions of ``units``.
+
+        ``units`` are systems that differ from this one only by a unit damping
+        in one place each (a damper coefficient of 1 where this one has 0):
+        D_j = C(units[j]) - C(self). Each must be constant in azimuth (a damper
+        between parts that turn together, or on the body) and leave mass and
+        stiffness alone; ValueError otherwise.
+        """
+        psi = np.array([0.0, 0.7, 2.1])[:, None]
+        own = self.matrices(np.ones(1), psi)[:, :, 0]  # (3, azimuths, n, n)
+        directions = []
+        for unit in units:
+            other = unit.matrices(np.ones(1), psi)[:, :, 0]
+            d = other[1] - own[1]
+            scale = max(np.abs(other).max(), 1.0)
+            if np.abs(other[::2] - own[::2]).max() > 1e-13 * scale or np.abs(d - d[0]).max() > 1e-13 * scale:
+                raise ValueError("a damping direction must leave mass and stiffness alone and be constant")
+            directions.append(d[0])
+        split = System(self.rotor, self.body)
+        split.damping_directions = np.array(directions).reshape(len(directions), self.size, self.size)
+        return split
 
     # -- time-invariant forms -------------------------------------------------
 

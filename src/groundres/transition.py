@@ -3,7 +3,7 @@
 The blade-coordinate equations are integrated in the azimuth psi = Omega t as
 q'' = (F_a(psi) + F_b(psi) / Omega + F_c(psi) / Omega^2) [q; q'], with the
 F matrices evaluated exactly at the nodes of a fixed azimuth grid, once for
-all speeds and every lag damping (:mod:`groundres.nodes`).
+all speeds and every damping set along the damping directions (:mod:`groundres.nodes`).
 
 The integrator is the eighth-order Runge-Kutta method of Dormand and Prince
 (the twelve stages of DOP853) on a fixed grid, chosen on evidence: for
@@ -34,12 +34,14 @@ import numpy as np
 
 from .nodes import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrices: for callers)
     GRID_CACHE_SIZE,
+    directions_of,
     frozen_rates,
     frozen_roots,
     grid_nodes,
     grid_values,
     node_coefficients,
     node_matrices,
+    per_speed,
     rates_per_radian,
 )
 from .pairwise import ordered_product, plan_runs, transition_pairwise
@@ -81,7 +83,7 @@ def transition(
     steps: int,
     blocks: int = 1,
     tableau=DOP8,
-    lag_damping=None,
+    damping=None,
     compiled: bool | None = None,
     cumulative: bool = False,
 ):
@@ -90,8 +92,8 @@ def transition(
     Parameters
     ----------
     system : System
-        With ``lag_damping``, the system without its working dampers
-        (:meth:`groundres.system.System.lag_damping_split`).
+        With ``damping``, a split system carrying damping directions
+        (:meth:`groundres.system.System.split_damping`).
     speeds : ndarray (n_s,)
         Rotor speeds [rad/s] integrated together.
     angle : float
@@ -101,8 +103,9 @@ def transition(
     blocks : int
         Number of equal consecutive parts of the interval.
     tableau : Tableau
-    lag_damping : ndarray (n_s,), optional
-        Lag damping set on the working dampers at each speed [in the system's units].
+    damping : ndarray (n_s,) or (n_s, d), optional
+        Damping along the system's damping directions at each speed [in the
+        system's units] (:func:`groundres.nodes.per_speed`).
     compiled : bool or None
         The compiled kernel (True; DOP8 only), NumPy with every step's
         propagator formed at once (False), or the kernel where it is ready
@@ -118,8 +121,8 @@ def transition(
         ``cumulative``, the last one is).
     """
     if use_kernel(tableau, compiled):
-        return transition_estimated(system, speeds, angle, steps, blocks, lag_damping, cumulative)[0]
-    parts = transition_pairwise(system, speeds, angle, steps, blocks, tableau, lag_damping)
+        return transition_estimated(system, speeds, angle, steps, blocks, damping, cumulative)[0]
+    parts = transition_pairwise(system, speeds, angle, steps, blocks, tableau, damping)
     return prefix_products(parts) if cumulative else parts
 
 
@@ -144,7 +147,7 @@ def prefix_products(parts):
 
 
 def transition_estimated(
-    system: System, speeds, angle: float, steps: int, blocks: int = 1, lag_damping=None, cumulative=False
+    system: System, speeds, angle: float, steps: int, blocks: int = 1, damping=None, cumulative=False
 ):
     """:func:`transition` by the compiled kernel, with the embedded error estimate of each speed.
 
@@ -160,18 +163,18 @@ def transition_estimated(
     from .propagate import propagate  # (numba is imported only where periodic analyses run)
 
     speeds = np.asarray(speeds, dtype=float)
-    damping = lag_damping is not None
-    coef = node_coefficients(speeds, lag_damping)
+    directions = directions_of(damping)
+    coef = node_coefficients(speeds, damping)
     h = angle / steps
     m = 2 * system.size
     out = np.empty((blocks, len(speeds), m, m))
     error = np.zeros(len(speeds))
     before = None  # (cumulative) the transition matrix up to the run's start
-    room = GRID_CACHE_SIZE // grid_values(system.size, 1, len(DOP8.c), damping)  # steps a run
+    room = GRID_CACHE_SIZE // grid_values(system.size, 1, len(DOP8.c), directions)  # steps a run
     for b0, b1, runs in plan_runs(steps, blocks, room):
         acc = None
         for s0, s1 in runs:
-            nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, damping)
+            nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, directions)
             got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1, cumulative)
             error += err
             acc = got if acc is None else got @ acc
@@ -261,7 +264,7 @@ def integrate(
     accept=None,
     rate=None,
     least=None,
-    lag_damping=None,
+    damping=None,
     compiled: bool | None = None,
     cumulative: bool = False,
 ):
@@ -292,8 +295,8 @@ def integrate(
         Fastest rate per radian at each speed, if known (:func:`rates_per_radian`).
     least : ndarray, optional
         Fewest steps at each speed (the samples its harmonics need).
-    lag_damping : ndarray, optional
-        Lag damping per speed on the working dampers (:func:`transition`).
+    damping : ndarray, optional
+        Damping per speed along the system's damping directions (:func:`transition`).
     compiled : bool or None
         The compiled kernel, NumPy, or the kernel where it is ready (:func:`use_kernel`).
     cumulative : bool
@@ -308,7 +311,8 @@ def integrate(
     blocks_for = blocks_for or (lambda count, sel: 1)
     embedded = use_kernel(tableau, compiled)
     ladder_ = compiled_ladder() if embedded else ladder(BASE_STEPS)
-    rate = rates_per_radian(system, speeds, lag_damping=lag_damping) if rate is None else rate
+    damping = per_speed(damping, len(speeds))
+    rate = rates_per_radian(system, speeds, damping=damping) if rate is None else rate
     need = estimated_steps(system, speeds, angle, rate, tolerance)
     if need.max() > MAX_STEPS:  # refused before any work: the ladder would climb to its top in vain
         i = int(np.argmax(need))
@@ -325,7 +329,6 @@ def integrate(
     phi = np.empty((len(speeds), n2, n2))
     previous = {}  # speed index -> (steps, phi) of its last rejected run (Richardson)
     pending = np.arange(len(speeds))
-    damping = None if lag_damping is None else np.broadcast_to(np.asarray(lag_damping, float), speeds.shape)
 
     def run(sel, count, blocks):
         c = None if damping is None else damping[sel]
