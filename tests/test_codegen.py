@@ -1,8 +1,10 @@
 """The generated equations are package code that a fresh derivation reproduces; nothing else runs.
 
-Provenance: the reference is groundres.symbolic.derive.derive_blade(), run afresh here (tens of
-seconds), against the committed modules groundres/symbolic/generated_numpy.py and
-generated_sympy.py (regenerate with ``python -m groundres.symbolic.codegen``).
+Provenance: the reference is every derivation of groundres.symbolic.derive (the blade's
+equations, the rigid body's mass matrix, a gear leg's matrix, the damper rods' length
+gradients: codegen.derive_all()), run afresh here (tens of seconds), against the committed
+modules groundres/symbolic/generated_numpy.py and generated_sympy.py (regenerate with
+``python -m groundres.symbolic.codegen``).
 
 Why three comparisons
     The text is compared byte for byte, so that editing derive.py or the printing in codegen.py
@@ -30,7 +32,7 @@ import sympy as sp
 
 import groundres
 from groundres.symbolic import codegen
-from groundres.symbolic.derive import BLADE_SYMBOLS, derive_blade, rotor_speed
+from groundres.symbolic.derive import BLADE_SYMBOLS, rotor_speed
 
 PACKAGE = Path(groundres.__file__).resolve().parent
 SYMBOLIC = PACKAGE / "symbolic"
@@ -39,7 +41,7 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture(scope="module")
 def fresh():
-    return derive_blade()
+    return codegen.derive_all()
 
 
 def recorded_sympy_version(name):
@@ -61,23 +63,41 @@ def test_committed_module_is_what_the_derivation_generates(fresh, name):
 def test_rebuilt_symbolic_matrices_equal_the_fresh_derivation(fresh):
     rebuilt = codegen.blade_equations()
     for group in codegen.GROUPS:
-        for new, ref in zip(getattr(rebuilt, group), getattr(fresh, group), strict=True):
-            assert (new - ref).expand() == sp.zeros(6, 6), group
+        for new, ref in zip(getattr(rebuilt, group), getattr(fresh["blade_harmonics"], group), strict=True):
+            assert (new - ref).expand() == sp.zeros(*ref.shape), group
+    for name in ("rigid_body_mass", "leg_matrix", "rod_to_hub", "rod_to_blade"):
+        ref = fresh[name]
+        assert (codegen.symbolic(name) - ref).applyfunc(sp.simplify) == sp.zeros(*ref.shape), name
 
 
 def test_numpy_function_equals_the_fresh_derivation_at_random_parameters(fresh):
     rng = np.random.default_rng(20240611)
     symbols = [rotor_speed] + [BLADE_SYMBOLS[name] for name in codegen.BLADE_ARGUMENTS[1:]]
+    signed = [codegen.BLADE_ARGUMENTS.index(k) for k in ("hub_height", "hub_x", "hub_y")]
     for _ in range(3):
         values = rng.uniform(0.1, 50.0, len(symbols))
-        values[5] *= rng.choice([-1.0, 1.0])  # hub height may be negative
+        values[signed] *= rng.choice([-1.0, 1.0], len(signed))  # the hub may be anywhere
         numeric = codegen.blade_function()(*values)
         subs = dict(zip(symbols, [sp.Float(v, 30) for v in values]))
         for g, group in enumerate(codegen.GROUPS):
-            for h, matrix in enumerate(getattr(fresh, group)):
+            for h, matrix in enumerate(getattr(fresh["blade_harmonics"], group)):
                 ref = np.array(matrix.xreplace(subs).evalf(30).tolist(), dtype=float)
                 scale = np.abs(ref).max(initial=0.0)
                 np.testing.assert_allclose(numeric[g, h], ref, rtol=1e-12, atol=1e-12 * scale)
+
+
+@pytest.mark.parametrize("name", ["rigid_body_mass", "leg_matrix", "rod_to_hub", "rod_to_blade"])
+def test_body_leg_and_rod_functions_equal_the_fresh_derivation(fresh, name):
+    rng = np.random.default_rng(7)
+    symbols = codegen._functions()[name][0]
+    for _ in range(3):
+        values = {arg: rng.uniform(-2.0, 2.0) for arg in symbols}
+        if name == "rigid_body_mass":
+            values["mass"] = rng.uniform(0.5, 3.0)
+        numeric = codegen.generated(name)(**values)
+        subs = {symbols[arg]: sp.Float(v, 30) for arg, v in values.items()}
+        ref = np.array(fresh[name].xreplace(subs).evalf(30).tolist(), dtype=float).reshape(numeric.shape)
+        np.testing.assert_allclose(numeric, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
 
 
 def test_numpy_module_does_not_import_sympy():

@@ -67,9 +67,10 @@ def refused_at_once(case, errors, match, **kw):
 
 
 def consistent(result):
-    """Installed damping >= exact minimum exactly when the sweep is stable."""
+    """Installed damping >= exact minimum exactly when the sweep is stable (the damper the
+    search sizes: the blades' lag dampers, or the damper rods where the case has them)."""
     exact = result.exact_lag_damping
-    installed = result.case.rotor.blades[0].lag_damping
+    installed = max(System(result.case.rotor, result.case.body).damper_values(), default=0.0)
     if exact is None:
         return not result.stability.stable
     return (installed >= exact) == result.stability.stable

@@ -327,3 +327,24 @@ def test_the_boundary_search_shares_a_failure_only_where_the_blades_are_alike_al
     vary = {"rotor.blade[2].lag_damping": [4067.5], "rotor.lag_damping": "500:6000:4"}
     edge = boundary(small_case(), vary, "rotor.lag_damping", failures="single")
     assert (edge.evaluations.values > 0).all()
+
+
+def test_keys_of_repeated_tables_vary_the_entry_they_name():
+    """rotor.damper[k] and body.gear[k]: the k-th table of the case file (1-based)."""
+    from groundres import load_case
+    from groundres.studies.grid import raw, varied_case
+
+    assert {"rotor.damper[k].damping", "body.gear[k].stiffness_y", "rotor.blade[k].lag_damping"} <= set(
+        numeric_keys()
+    )
+    skids = load_case("light-helicopter-skids")
+    grid = make_grid(skids, {"body.gear[3].stiffness_y": "4e4:6e4:2"})
+    varied = varied_case(raw(skids), grid.point(1)[0])
+    assert [leg.stiffness_y for leg in varied.body.gear] == [5e4, 5e4, 6e4, 5e4]
+    inter = load_case("hammond-interblade-one-failed")
+    varied = varied_case(raw(inter), {"rotor.damper[2].damping": 1000.0})
+    assert [d.damping for d in varied.rotor.dampers if d.blade == 1] == [1000.0]
+    with pytest.raises(StudyError, match=r"body.gear\[5\].*1 to 4"):
+        make_grid(skids, {"body.gear[5].stiffness_y": "4e4:6e4:2"})
+    with pytest.raises(StudyError, match="no number key"):
+        make_grid(skids, {"body.gear.stiffness_y": "4e4:6e4:2"})

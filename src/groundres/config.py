@@ -14,6 +14,8 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
+from .body import LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Leg
+from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
 from .params import (
     BLADE_KEYS,
     BODY_DOFS,
@@ -71,17 +73,20 @@ SCHEMA = {
         "flap_stiffness": _NUMBER,
         "flap_damping": _NUMBER,
         "blade": _TABLES,
+        "damper": _TABLES,
     },
     "rotor.blade": {"index": _INT, **{k: _NUMBER for k in BLADE_KEYS}},
+    "rotor.damper": {"kind": _STR, "blade": _INT, **{k: _NUMBER for k in DAMPER_KEYS if k != "kind"}},
     "body": {
         "dofs": _STRLIST,
         "hub_height": _NUMBER,
-        **{
-            f"{kind}_{d}": _NUMBER
-            for d in BODY_DOFS
-            for kind in (("mass" if d in ("x", "y") else "inertia"), "stiffness", "damping")
-        },
+        "hub_x": _NUMBER,
+        "hub_y": _NUMBER,
+        **{k: _NUMBER for k in MODAL_KEYS},
+        **{k: _NUMBER for k in RIGID_KEYS},
+        "gear": _TABLES,
     },
+    "body.gear": {k: _NUMBER for k in LEG_KEYS},
     "sweep": {
         "start": _NUMBER,
         "stop": _NUMBER,
@@ -96,6 +101,8 @@ REQUIRED = {
     "": ("rotor", "body", "sweep"),
     "rotor": ("blades", "hinge_offset", "blade_mass", "blade_static_moment", "blade_inertia"),
     "rotor.blade": ("index",),
+    "rotor.damper": ("kind",),
+    "body.gear": ("position_x", "position_y", "position_z"),
     "sweep": ("start", "stop"),
 }
 _DEFAULT_DOFS = ["x", "y"]
@@ -168,7 +175,63 @@ def _rotor(data: dict) -> Rotor:
         merged = {**blade_data, **changes}
         _build(f"[[rotor.blade]] index = {index}: ", Blade, **merged)
         rotor = rotor.with_blade(index, **changes)
-    return rotor
+    dampers = _dampers(data.get("damper", []), rotor.n_blades)
+    return _build("[[rotor.damper]] ", Rotor, blades=rotor.blades, flap=rotor.flap, dampers=dampers)
+
+
+def _dampers(entries: list, n_blades: int) -> tuple:
+    """The damper rods of ``[[rotor.damper]]`` tables: an entry without ``blade`` is a layout
+    (one rod starting at every blade); an entry with ``blade = k`` overrides the keys it
+    gives of the layout's rod of its kind starting at blade k (``damping = 0.0``: a failed
+    damper), or is a rod of its own where its kind has no layout."""
+    layouts, overrides = {}, {}
+    for entry in entries:
+        _check_table("rotor.damper", entry)
+        kind = entry["kind"]
+        if kind not in KINDS:
+            near = difflib.get_close_matches(kind, KINDS, n=1, cutoff=0.5)
+            hint = f" (did you mean '{near[0]}'?)" if near else ""
+            raise CaseError(f"[[rotor.damper]] kind = {kind!r}: must be one of {list(KINDS)}{hint}")
+        values = {k: float(v) for k, v in entry.items() if k not in ("kind", "blade")}
+        if "blade" not in entry:
+            if kind in layouts:
+                raise CaseError(
+                    f"[[rotor.damper]] kind = {kind!r}: a layout (an entry without blade) may be given once "
+                    "per kind; override single rods with blade = k"
+                )
+            layouts[kind] = values
+            continue
+        blade = entry["blade"]
+        if not 1 <= blade <= n_blades:
+            raise CaseError(
+                f"[[rotor.damper]] blade = {shown(blade)}: must be a blade of the rotor, 1 to {n_blades}"
+            )
+        if (kind, blade) in overrides:
+            raise CaseError(f"[[rotor.damper]] kind = {kind!r}, blade = {blade}: given twice")
+        overrides[(kind, blade)] = values
+    rods = []
+    for kind, values in layouts.items():
+        for blade in range(1, n_blades + 1):
+            rods.append((kind, blade, {**values, **overrides.pop((kind, blade), {})}))
+    rods += [(kind, blade, values) for (kind, blade), values in overrides.items()]
+    out = []
+    for kind, blade, values in rods:
+        missing = [k for k in GEOMETRY[:2] + GEOMETRY[3:5] + ("damping",) if k not in values]
+        if missing:
+            raise CaseError(
+                f"missing key [[rotor.damper]] {missing[0]} (kind = {kind!r}, blade = {blade}): "
+                "a rod needs damping and both ends (start_x, start_y, end_x, end_y; z defaults to 0)"
+            )
+        out.append(
+            _build(
+                f"[[rotor.damper]] kind = {kind!r}, blade = {blade}: ",
+                Damper,
+                blade=blade,
+                kind=kind,
+                **values,
+            )
+        )
+    return tuple(out)
 
 
 def _body(data: dict) -> Body:
@@ -179,14 +242,37 @@ def _body(data: dict) -> Body:
             near = difflib.get_close_matches(d, BODY_DOFS, n=1, cutoff=0.5)
             hint = f" (did you mean '{near[0]}'?)" if near else ""
             raise CaseError(f"[body] dofs = {dofs!r}: '{d}' is not one of {list(BODY_DOFS)}{hint}")
-    for d in dofs:
-        for key in (Body.inertia_key(d), f"stiffness_{d}"):
+    modal = [k for k in MODAL_KEYS if k in data]
+    rigid = [k for k in (*RIGID_KEYS, "gear") if k in data]
+    if modal and rigid:
+        raise CaseError(
+            f"[body] {modal[0]} and {rigid[0]}: the modal form (mass_x, stiffness_x, ...) and the rigid "
+            "form (mass, inertia_xx, ..., [[body.gear]]) are exclusive; give one"
+        )
+    if rigid:
+        required = ["mass", "hub_height", "gear"]
+        required += [f"inertia_{a}{a}" for d, a in (("roll", "x"), ("pitch", "y"), ("yaw", "z")) if d in dofs]
+        for key in required:
             if key not in data:
-                raise CaseError(f"missing key [body] {key}: required because dofs includes '{d}'")
-    if {"pitch", "roll"} & set(dofs) and "hub_height" not in data:
-        raise CaseError("missing key [body] hub_height: required with pitch or roll in dofs")
-    values = {k: float(v) for k, v in data.items() if k != "dofs"}
-    return _build("[body] ", Body, dofs=tuple(dofs), **values)
+                why = (
+                    "a body on gear legs needs it"
+                    if key != "gear"
+                    else "a rigid body stands on [[body.gear]] legs"
+                )
+                raise CaseError(f"missing key [body] {key}: {why}")
+    else:
+        for d in dofs:
+            for key in (Body.inertia_key(d), f"stiffness_{d}"):
+                if key not in data:
+                    raise CaseError(f"missing key [body] {key}: required because dofs includes '{d}'")
+        if {"pitch", "roll"} & set(dofs) and "hub_height" not in data:
+            raise CaseError("missing key [body] hub_height: required with pitch or roll in dofs")
+    legs = []
+    for i, entry in enumerate(data.get("gear", []), start=1):
+        _check_table("body.gear", entry)
+        legs.append(_build(f"[[body.gear]] {i}: ", Leg, **{k: float(v) for k, v in entry.items()}))
+    values = {k: float(v) for k, v in data.items() if k not in ("dofs", "gear")}
+    return _build("[body] ", Body, dofs=tuple(dofs), gear=tuple(legs), **values)
 
 
 def _sweep(data: dict) -> Sweep:

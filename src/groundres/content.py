@@ -44,7 +44,8 @@ class Group:
     coords : tuple of int
         Indices into the nonrotating coordinates.
     kind : str
-        "blade" (collective or differential: the same in both frames),
+        "axial" (collective, differential, body heave or yaw: turned about the
+        shaft they look the same, so both frames see them at one frequency),
         "planar" (a body direction without its partner), "pair" (body x-y or
         pitch-roll, anisotropic: one label per direction), "whirl" (an
         isotropic pair: forward and backward whirl), "cyclic" (a cyclic pair
@@ -77,12 +78,14 @@ def label_groups(coords: list[Coordinate], isotropic_pairs=()) -> list[Group]:
             else:
                 groups.append(Group((f"body {a}", f"body {b}"), (i, j), "pair", 1))
             used |= {i, j}
+        elif c.kind == "body" and c.name in ("z", "yaw"):
+            groups.append(Group((f"body {c.name}",), (i,), "axial", 0))
         elif c.kind == "body":
             groups.append(Group((f"body {c.name}",), (i,), "planar", 1))
         elif c.name == "0":
-            groups.append(Group(("collective lag" if c.kind == "lag" else "coning",), (i,), "blade", 0))
+            groups.append(Group(("collective lag" if c.kind == "lag" else "coning",), (i,), "axial", 0))
         elif c.name == "d":
-            groups.append(Group((f"differential {c.kind}",), (i,), "blade", 0))
+            groups.append(Group((f"differential {c.kind}",), (i,), "axial", 0))
         elif c.name.endswith("c"):
             j = index[(c.kind, c.name[:-1] + "s")]
             suffix = "" if c.harmonic == 1 else f" {c.harmonic}"
@@ -132,7 +135,7 @@ def group_parts(group: Group, amp, weight, freq, speed):
     """
     sq = weight * np.abs(amp) ** 2
     kind, n = group.kind, group.order
-    if kind == "blade":  # two parts like every other kind, the second empty
+    if kind == "axial":  # two parts like every other kind, the second empty
         return [(sq, freq), (0 * sq, freq)]
     if kind == "planar":
         return [(sq / 2, freq - speed), (sq / 2, -freq - speed)]

@@ -117,7 +117,8 @@ def search_grid(speeds, probe, periodic, low=0.0, windows=()):
 
 
 def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
-    """Smallest lag damping (on every blade that has a damper) for a stable sweep.
+    """Smallest lag damping (on every working damper the search sizes:
+    :attr:`groundres.system.System.searched`) for a stable sweep.
 
     The search scans the sweep and an internal grid dense near the tuning
     speeds from half the lowest body frequency up, refines the worst speeds
@@ -130,11 +131,11 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     Returns
     -------
     value : float or None
-        [N m s/rad] in SI.
+        In SI: [N m s/rad] for blade lag dampers, [N s/m] for damper rods.
     why_none : tuple or None
         Where ``value`` is None: ("below", speed [rad/s]) for a sweep unstable
-        below the search's lowest speed, ("cap", damping [N m s/rad]) where no
-        damping up to the largest tried makes it stable.
+        below the search's lowest speed, ("cap", damping in the same unit)
+        where no damping up to the largest tried makes it stable.
     """
     periodic = solver.kind == "floquet"
     low = lowest_search_speed(deutsch)
@@ -143,9 +144,12 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     # (computed in the equations' mass unit, limits.mass_unit: SI values near the
     # largest float would overflow in the products below)
     unit = solver.unit
+    system = solver.system
     blades = case.rotor.blades
-    installed = max(b.lag_damping for b in blades) / unit
-    inertia = max(b.blade_inertia for b in blades) / unit
+    installed = max(system.damper_values()) if any(system.damper_values()) else 0.0
+    # (a rod's N s/m act on the blades through its lever: scales in the searched damper's units)
+    lever = max(system.damper_lever(), 1e-300)
+    inertia = max(b.blade_inertia for b in blades) / unit / lever
     # the largest lag damping the model resolves (limits.check_resolution), and a
     # cap beyond which more damping is no design answer (periodic analyses stop
     # earlier: a strong damper makes the equations stiff for the explicit integrator)
@@ -153,12 +157,13 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
     top = speeds.max()
     finite = [
-        e.required_lag_damping / unit
+        _in_searched(e, system, unit)
         for e in deutsch
         if e.required_lag_damping not in (None, np.inf)
         and e.tuning_speed is not None
         and speeds.min() <= e.tuning_speed <= top
     ]
+    finite = [f for f in finite if f > 0]
     # (and four times the Deutsch requirement of a resonance the sweep reaches,
     # whatever the installed damper)
     cap = (20 if periodic else 100) * max(installed, 2 * inertia * top * (0.05 if periodic else 1.0))
@@ -166,7 +171,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     guess = min(max(finite) if finite else max(installed, inertia * top * 1e-3), 0.5 * cap)
     guess = max(guess, 1e-12 * cap)
     # the installed dampers belong to the family searched when the working ones are equal
-    working = {b.lag_damping for b in blades if b.lag_damping > 0}
+    working = {v for v in system.damper_values() if v > 0}
     anchor = (installed, not assessed.stable) if len(working) <= 1 and installed <= cap else None
 
     trials = {}
@@ -200,6 +205,17 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     )
     with np.errstate(over="ignore"):
         return (None, ("cap", cap * unit)) if value is None else (value * unit, None)
+
+
+def _in_searched(entry, system, unit) -> float:
+    """A Deutsch requirement [N m s/rad, SI] as a value of the searched damper in the
+    equations' mass unit: itself for blade dampers; for rods, what the rods must add to
+    the blades' own dampers, per unit of the entry's rod lever."""
+    if system.searched == "blades":
+        return entry.required_lag_damping / unit
+    own = min((b.lag_damping for b in system.rotor.blades if b.lag_damping > 0), default=0.0)
+    lever = entry.rod_lever or 1.0
+    return (entry.required_lag_damping / unit - own) / lever
 
 
 def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen", rough=None):

@@ -12,6 +12,21 @@ with C_b the body damper and omega_b the body frequency with the rotor mass
 included. It is an approximation; :func:`groundres.damping_search.exact_minimum` finds the exact
 minimum from the roots, on the same internal grid and from the sweep's own
 verdict at the installed damper, so that the two never contradict each other.
+
+C_lag is the lag damping the cyclic lag mode sees, per blade [N m s/rad]: a
+blade's own rotational damper, plus its damper rods (:mod:`groundres.dampers`).
+A rod of coefficient c whose length changes by g_a per radian of lag of its
+first blade and g_b of the blade j further on adds c (g_a^2 + g_b^2 +
+2 g_a g_b cos(2 pi n j / N)) to cyclic order n; between mirror-image points
+(g_b = -g_a) that is 2 (1 - cos(2 pi n j / N)) c g_a^2, and nothing to the
+collective mode (n = 0). The criterion's C_lag is order 1's.
+
+A body on gear legs (the rigid form) has coupled modes: each mode of the
+body with the rotor's mass and inertia added (undamped) counts with its
+modal mass, stiffness and damping referred to the hub's motion in the rotor
+plane (a mode that does not move the hub in that plane, heave or yaw about
+the shaft, has no entry); an isotropic body's modes come in pairs, each pair
+one isotropic entry.
 """
 
 from __future__ import annotations
@@ -53,6 +68,11 @@ class DeutschEntry:
         not taken as installed). 0 when no blade has a damper.
     failed_dampers : int
         Blades without a lag damper on a rotor where other blades have one.
+    rod_lever : float
+        The cyclic lag damping per blade that the rotor's damper rods give per
+        unit of their coefficient [N m s/rad per N s/m = m^2/rad] (0 without
+        rods): a rod coefficient of (required - rotational) / rod_lever meets
+        the criterion.
     limitation : str or None
         Why the criterion does not apply as stated, None where it does. It
         assumes N >= 3 identical blades: "blades differ" (the rotor is smeared
@@ -71,6 +91,7 @@ class DeutschEntry:
     installed_lag_damping: float
     failed_dampers: int = 0
     limitation: str | None = None
+    rod_lever: float = 0.0
 
     @property
     def applies(self) -> bool:
@@ -106,17 +127,43 @@ class DeutschEntry:
 
 
 def installed_lag_damping(rotor: Rotor) -> tuple[float, int]:
-    """The smallest working lag damper [N m s/rad] and the number of failed ones.
+    """The smallest working lag damper [N m s/rad], rods included as the cyclic lag mode sees
+    them, and the number of failed rotational dampers.
 
     A blade without a damper (0) on a rotor where other blades have one counts
     as a failed damper, not as the installed value; when no blade has a damper
-    the installed value is 0 and none has failed.
+    the installed value is 0 and none has failed. Damper rods add their cyclic
+    (order 1) damping per blade, averaged over the rotor (:func:`rod_lever`).
     """
     values = [b.lag_damping for b in rotor.blades]
     working = [v for v in values if v > 0]
+    rods = _rod_cyclic(rotor, "damping")
     if not working:
-        return 0.0, 0
-    return float(min(working)), len(values) - len(working)
+        return rods, 0
+    return float(min(working)) + rods, len(values) - len(working)
+
+
+def _rod_cyclic(rotor: Rotor, what: str, order: int = 1) -> float:
+    """The cyclic lag damping (``what`` = "damping") or stiffness ("stiffness") per blade of
+    the rods, or the damping per unit coefficient of the working rods ("lever"), averaged
+    over the rotor [N m s/rad, N m/rad, m^2/rad]."""
+    n = rotor.n_blades
+    offsets = [b.hinge_offset for b in rotor.blades]
+    total = 0.0
+    for d in rotor.dampers:
+        g = d.gradient(offsets, n)[::2]  # (the lag parts)
+        if d.span == 0:
+            lever = g[0] ** 2
+        else:
+            lever = g[0] ** 2 + g[1] ** 2 + 2 * g[0] * g[1] * math.cos(2 * math.pi * order * d.span / n)
+        coefficient = getattr(d, what) if what != "lever" else (1.0 if d.damping > 0 else 0.0)
+        total += coefficient * lever
+    return float(total / n)
+
+
+def rod_lever(rotor: Rotor) -> float:
+    """Cyclic lag damping per blade per unit rod coefficient [m^2/rad] of the working rods."""
+    return _rod_cyclic(rotor, "lever")
 
 
 def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
@@ -156,25 +203,16 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
         }
     )
     n = rotor.n_blades
-    k1 = blade.lag_stiffness / blade.blade_inertia
+    k1 = (blade.lag_stiffness + _rod_cyclic(rotor, "stiffness")) / blade.blade_inertia
     k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
     s = blade.blade_static_moment
     installed, failed = installed_lag_damping(rotor)
     limitation = None if rotor.identical else "blades differ"
     if n < 3:
         limitation = "two blades"
+    lever = rod_lever(rotor)
     entries = []
-    modes = []
-    for a, b_ in (("x", "y"), ("pitch", "roll")):
-        if body.pair_isotropic(a, b_):
-            modes.append((f"{a}-{b_}", a, "isotropic", n / 2))
-        else:
-            modes += [(d, d, "planar", n / 4) for d in (a, b_) if d in body.dofs]
-    for name, dof, form, factor in modes:
-        eq = _hub_equivalent(rotor, body, dof)
-        if eq is None:
-            continue
-        mass, stiffness, damping = eq
+    for name, form, (mass, stiffness, damping) in _body_modes(rotor, body, n):
         wb = math.sqrt(stiffness / mass)
         tuning = nu = required = None
         if k2 < 1 and wb > 0:
@@ -183,12 +221,84 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
             if nu <= 0 or nu >= 1:
                 tuning = nu = None
         if nu is not None:
+            factor = n / 2 if form == "isotropic" else n / 4
             product = factor * s**2 * wb**2 * (1 - nu) / nu
             required = math.inf if damping == 0 else product / damping
         entries.append(
-            DeutschEntry(name, form, wb, tuning, nu, damping, required, installed, failed, limitation)
+            DeutschEntry(name, form, wb, tuning, nu, damping, required, installed, failed, limitation, lever)
         )
     return entries
+
+
+def _body_modes(rotor: Rotor, body: Body, n: int) -> list:
+    """(name, form, (mass, stiffness, damping) referred to the hub) of each body mode."""
+    if body.form == "rigid":
+        return _rigid_modes(rotor, body)
+    out = []
+    for a, b_ in (("x", "y"), ("pitch", "roll")):
+        if body.pair_isotropic(a, b_):
+            modes = [(f"{a}-{b_}", a, "isotropic")]
+        else:
+            modes = [(d, d, "planar") for d in (a, b_) if d in body.dofs]
+        for name, dof, form in modes:
+            eq = _hub_equivalent(rotor, body, dof)
+            if eq is not None:
+                out.append((name, form, eq))
+    return out
+
+
+def _rigid_modes(rotor: Rotor, body: Body) -> list:
+    """Modes of a body on gear legs with the rotor's mass and inertia at the hub, referred to
+    the hub's motion in the rotor plane."""
+    from scipy.linalg import eigh
+
+    from .body import BODY_DOFS
+    from .symbolic.codegen import generated
+
+    keep = [BODY_DOFS.index(d) for d in body.dofs]
+    shaft = rotor.inertia_about_pivot(0.0, "yaw")
+    added = generated("rigid_body_mass")(
+        mass=sum(b.blade_mass for b in rotor.blades),
+        inertia_xx=shaft / 2,
+        inertia_yy=shaft / 2,
+        inertia_zz=shaft,
+        inertia_xy=0.0,
+        inertia_xz=0.0,
+        inertia_yz=0.0,
+        centre_x=body.hub_x,
+        centre_y=body.hub_y,
+        centre_z=body.hub_height,
+    )[np.ix_(keep, keep)]
+    mass, damping, stiffness = body.matrices()
+    mass = mass + added
+    values, vectors = eigh(stiffness, mass)  # (omega^2, ascending; mass-normalised modes)
+    # the hub's displacement in the rotor plane per unit body coordinate: translation + rotation x hub
+    hub = generated("leg_matrix")  # (T' diag(k) T with k = (1, 1, 0): T's in-plane rows, squared)
+    planar = hub(
+        position_x=body.hub_x,
+        position_y=body.hub_y,
+        position_z=body.hub_height,
+        along_x=1.0,
+        along_y=1.0,
+        along_z=0.0,
+    )[np.ix_(keep, keep)]
+    out, used = [], set()
+    for i in range(len(values)):
+        if i in used:
+            continue
+        phi = vectors[:, i]
+        reach = float(phi @ planar @ phi)  # |hub displacement in the plane|^2
+        scale = float(phi @ mass @ phi)
+        if reach <= 1e-9 * scale / max(np.abs(mass).max(), 1e-300) or values[i] <= 0:
+            continue
+        pair = [j for j in range(i + 1, len(values)) if abs(values[j] - values[i]) <= 1e-9 * values[i]]
+        form = "isotropic" if body.isotropic and pair else "planar"
+        used |= {i, *pair[:1]} if form == "isotropic" else {i}
+        refer = [float(phi @ m @ phi) / reach for m in (mass, stiffness, damping)]
+        main = body.dofs[int(np.argmax(np.abs(phi) * np.sqrt(np.diag(mass))))]
+        name = f"mode {len(out) + 1} ({'pair, ' if form == 'isotropic' else ''}mostly {main})"
+        out.append((name, form, tuple(refer)))
+    return out
 
 
 def deutsch_in_si(system, unit: float) -> list[DeutschEntry]:

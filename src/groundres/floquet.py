@@ -102,14 +102,15 @@ def symmetry(system: System) -> Symmetry:
     """The shortest azimuth shift under which the blade-coordinate equations repeat.
 
     In blade coordinates (body axes nonrotating) every coefficient is a sum over
-    blades of functions of each blade's own azimuth, so advancing the azimuth by
-    2 pi j / N only hands each blade's role to blade k + j: the equations repeat
-    when the blades do (blade k like blade k + j), whatever the body.
+    blades of functions of each blade's own azimuth (and damper rods constant in
+    the blades' coordinates), so advancing the azimuth by 2 pi j / N only hands
+    each blade's role to blade k + j: the equations repeat when the blades and
+    their rods do (:meth:`groundres.params.Rotor.repeats`), whatever the body.
     """
     rotor = system.rotor
     n = rotor.n_blades
     for j in range(1, n + 1):
-        if n % j == 0 and all(rotor.blades[k] == rotor.blades[(k + j) % n] for k in range(n)):
+        if n % j == 0 and rotor.repeats(j):
             return Symmetry(j, 2 * math.pi * j / n, _coordinate_map(system, j))
     raise AssertionError("the full period is always a symmetry")
 

@@ -39,6 +39,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from .body import TRANSLATIONS
 from .modal import unit_mass_state_matrix
 from .params import Blade, Body, Rotor
 from .system import System
@@ -63,7 +64,8 @@ _EIG_PER_STEP = 1.6e-5
 _PER_SPEED = 16.0
 
 _BLADE_MASS_LIKE = tuple(f.name for f in fields(Blade) if f.name != "hinge_offset")
-_BODY_KINDS = ("mass_", "inertia_", "stiffness_", "damping_")
+_BODY_KINDS = ("mass", "inertia_", "stiffness_", "damping_")
+_BY_MASS = ("stiffness", "damping")  # (of a leg or a damper rod: scale with the mass unit)
 
 
 class ModelRangeError(ValueError):
@@ -75,7 +77,10 @@ class ModelRangeError(ValueError):
 
 def _inertias(rotor: Rotor, body: Body):
     values = [v for b in rotor.blades for v in (b.blade_mass, b.blade_inertia, b.blade_static_moment)]
-    values += [body.value("inertia", d) for d in body.dofs]
+    if body.form == "rigid":
+        values += [body.mass, *np.abs(np.linalg.eigvalsh(body.inertia_tensor()))]
+    else:
+        values += [body.value("inertia", d) for d in body.dofs]
     return [v for v in values if v > 0]
 
 
@@ -98,7 +103,16 @@ def in_mass_unit(rotor: Rotor, body: Body, unit: float) -> tuple[Rotor, Body]:
         for f in fields(Body)
         if f.name.startswith(_BODY_KINDS) and getattr(body, f.name)
     }
-    return replace(rotor, blades=blades), replace(body, **changes)
+    changes["gear"] = tuple(_scaled(leg, unit) for leg in body.gear)
+    dampers = tuple(_scaled(d, unit) for d in rotor.dampers)
+    return replace(rotor, blades=blades, dampers=dampers), replace(body, **changes)
+
+
+def _scaled(part, unit: float):
+    """A leg or damper rod with its stiffnesses and dampings divided by ``unit``."""
+    return replace(
+        part, **{f.name: getattr(part, f.name) / unit for f in fields(part) if f.name.startswith(_BY_MASS)}
+    )
 
 
 def system_in_mass_unit(rotor: Rotor, body: Body) -> tuple[System, float]:
@@ -175,28 +189,49 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
                     rate,
                 )
             )
-    m_rotor = sum(b.blade_mass for b in rotor.blades)
-    for d in body.dofs:
-        added = m_rotor if d in ("x", "y") else rotor.inertia_about_pivot(body.hub_height)
-        mass = body.value("inertia", d) + added
-        unit = ("N s/m", "N/m") if d in ("x", "y") else ("N m s/rad", "N m/rad")
-        what = f"with the rotor's share, M = {mass:.5g}"
+    offsets = [b.hinge_offset for b in rotor.blades]
+    for damper in rotor.dampers:
+        g2 = float(np.sum(damper.gradient(offsets, rotor.n_blades) ** 2))
+        if not g2 > 0:  # (a rod whose length the blades' angles do not change sets no rate)
+            continue
+        i = rotor.blades[damper.blade - 1].blade_inertia
+        where = f"{damper.kind} from blade {damper.blade}"
+        what = f"with blade_inertia {i:.5g} kg m^2 and the rod's lever g^2 = {g2:.5g} m^2"
         out.append(
             RateSource(
-                f"[body] damping_{d}", body.value("damping", d), unit[0], 1, mass, f"C/M {what}", False
-            )
-        )
-        out.append(
-            RateSource(
-                f"[body] stiffness_{d}",
-                body.value("stiffness", d),
-                unit[1],
-                2,
-                mass,
-                f"sqrt(K/M) {what}",
+                f"[[rotor.damper]] damping ({where})",
+                damper.damping,
+                "N s/m",
+                1,
+                i / g2,
+                f"c g^2/I {what}",
                 False,
             )
         )
+        out.append(
+            RateSource(
+                f"[[rotor.damper]] stiffness ({where})",
+                damper.stiffness,
+                "N/m",
+                2,
+                i / g2,
+                f"sqrt(k g^2/I) {what}",
+                False,
+            )
+        )
+    m_rotor = sum(b.blade_mass for b in rotor.blades)
+    mats = body.matrices()
+    for i, d in enumerate(body.dofs):
+        added = m_rotor if d in TRANSLATIONS else rotor.inertia_about_pivot(body.hub_height, d)
+        mass = mats[0, i, i] + added
+        unit = ("N s/m", "N/m") if d in TRANSLATIONS else ("N m s/rad", "N m/rad")
+        what = f"with the rotor's share, M = {mass:.5g}"
+        if body.form == "rigid":
+            keys = (f"[[body.gear]] damping (in {d})", f"[[body.gear]] stiffness (in {d})")
+        else:
+            keys = (f"[body] damping_{d}", f"[body] stiffness_{d}")
+        out.append(RateSource(keys[0], mats[1, i, i], unit[0], 1, mass, f"C/M {what}", False))
+        out.append(RateSource(keys[1], mats[2, i, i], unit[1], 2, mass, f"sqrt(K/M) {what}", False))
     name, factor = speed_unit
     out.append(RateSource("[sweep] stop", top_speed / factor, name, 1, 1.0 / factor, "the rotor speed", True))
     return out

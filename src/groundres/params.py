@@ -11,7 +11,9 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-BODY_DOFS = ("x", "y", "pitch", "roll")
+from .body import BODY_DOFS, Body, Leg  # noqa: F401  (re-exported)
+from .checks import ParameterError, finite, non_negative, positive, shown  # noqa: F401  (re-exported)
+
 SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 #: How a frequency reads in a case whose speeds are in each unit (rpm: cycles/min).
 FREQUENCY_UNITS = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
@@ -25,66 +27,6 @@ MAX_POINTS = 100_000
 #: Most values points x (2 n)^2 of a sweep's state matrices (n coordinates):
 #: an eigen-analysis holds about 60 bytes per value, so this bounds it near 1.2 GB.
 MAX_SWEEP_VALUES = 20_000_000
-
-
-def shown(value) -> str:
-    """``repr(value)`` fit for a one-line message: long whole numbers and texts shortened."""
-    if isinstance(value, int) and not isinstance(value, bool):
-        digits = math.floor(abs(value).bit_length() * math.log10(2)) + 1 if value else 1
-        if digits > 20:
-            if digits > 4000:  # too long to convert to text at all
-                return f"{'-' if value < 0 else ''}<a whole number of about {digits} digits>"
-            text = str(value)
-            return f"{text[:8]}...{text[-4:]} ({len(text.lstrip('-'))} digits)"
-        return repr(value)
-    text = repr(value)
-    return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
-
-
-def finite(value) -> bool:
-    """Whether ``value`` is a number (not a bool) that a float holds finitely."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return False
-    try:
-        return math.isfinite(value)
-    except OverflowError:  # a whole number beyond the float range
-        return False
-
-
-class ParameterError(ValueError):
-    """A parameter value outside what the model allows.
-
-    Attributes
-    ----------
-    key : str
-        Name of the parameter (dotted path once the case reader adds its table).
-    value : object
-        The offending value.
-    allowed : str
-        What is allowed, in words.
-    """
-
-    def __init__(self, key: str, value, allowed: str):
-        self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"{key} = {shown(value)}: {allowed}")
-
-    def under(self, prefix: str) -> ParameterError:
-        """The same error with its key placed under a table name."""
-        return ParameterError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.allowed)
-
-
-def _positive(obj, *names):
-    for name in names:
-        value = getattr(obj, name)
-        if not (finite(value) and value > 0):
-            raise ParameterError(name, value, "must be a finite number > 0")
-
-
-def _non_negative(obj, *names):
-    for name in names:
-        value = getattr(obj, name)
-        if not (finite(value) and value >= 0):
-            raise ParameterError(name, value, "must be a finite number >= 0")
 
 
 @dataclass(frozen=True)
@@ -117,8 +59,8 @@ class Blade:
     flap_damping: float = 0.0
 
     def __post_init__(self):
-        _positive(self, "blade_mass", "blade_inertia")
-        _non_negative(
+        positive(self, "blade_mass", "blade_inertia")
+        non_negative(
             self,
             "blade_static_moment",
             "hinge_offset",
@@ -170,14 +112,22 @@ class Rotor:
         One entry per blade, blade 1 first.
     flap : bool
         Whether each blade has a flap degree of freedom.
+    dampers : tuple of Damper
+        Lag damper rods (:mod:`groundres.dampers`), besides each blade's own
+        rotational ``lag_damping``.
     """
 
     blades: tuple
     flap: bool = False
+    dampers: tuple = ()
 
     def __post_init__(self):
         if not 2 <= len(self.blades) <= MAX_BLADES:
             raise ParameterError("blades", len(self.blades), f"a rotor needs 2 to {MAX_BLADES} blades")
+        object.__setattr__(self, "dampers", tuple(self.dampers))
+        offsets = [b.hinge_offset for b in self.blades]
+        for damper in self.dampers:
+            damper.check(offsets, len(self.blades))
 
     @classmethod
     def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> Rotor:
@@ -190,123 +140,43 @@ class Rotor:
     def n_blades(self) -> int:
         return len(self.blades)
 
-    def inertia_about_pivot(self, h: float) -> float:
-        """Pitch or roll inertia [kg m^2] of the blades about a pivot ``h`` [m] below
-        the hub, averaged over azimuth: sum of m h^2 + (I + 2 S e + m e^2) / 2."""
-        return sum(
-            b.blade_mass * h * h
-            + 0.5
-            * (
-                b.blade_inertia
-                + 2 * b.blade_static_moment * b.hinge_offset
-                + b.blade_mass * b.hinge_offset**2
-            )
+    def inertia_about_pivot(self, h: float, dof: str = "pitch") -> float:
+        """Inertia [kg m^2] of the blades about a pivot ``h`` [m] below the hub, averaged
+        over azimuth: in pitch or roll sum of m h^2 + (I + 2 S e + m e^2) / 2, in yaw
+        (about the shaft) sum of I + 2 S e + m e^2."""
+        shaft = sum(
+            b.blade_inertia + 2 * b.blade_static_moment * b.hinge_offset + b.blade_mass * b.hinge_offset**2
             for b in self.blades
         )
+        if dof == "yaw":
+            return shaft
+        return sum(b.blade_mass * h * h for b in self.blades) + 0.5 * shaft
+
+    @property
+    def blades_alike(self) -> bool:
+        """True when every blade has the same properties (dampers aside)."""
+        return all(b == self.blades[0] for b in self.blades[1:])
 
     @property
     def identical(self) -> bool:
-        """True when every blade has the same properties."""
-        return all(b == self.blades[0] for b in self.blades[1:])
+        """True when the rotor looks the same from every blade: blades alike and the damper
+        rods repeating from blade to blade (a failed rod among working ones breaks it)."""
+        return self.repeats(1)
+
+    def repeats(self, shift: int) -> bool:
+        """Whether blade k + ``shift`` takes blade k's place exactly (its properties and the
+        rods it starts)."""
+        n = self.n_blades
+        if not all(self.blades[k] == self.blades[(k + shift) % n] for k in range(n)):
+            return False
+        turned = sorted((d.turned(shift, n) for d in self.dampers), key=repr)
+        return turned == sorted(self.dampers, key=repr)
 
     def with_blade(self, index: int, **changes) -> Rotor:
         """A copy in which blade ``index`` (1-based) has some properties changed."""
         blades = list(self.blades)
         blades[index - 1] = replace(blades[index - 1], **changes)
         return replace(self, blades=tuple(blades))
-
-
-@dataclass(frozen=True)
-class Body:
-    """The helicopter on its landing gear: any subset of x, y, pitch, roll.
-
-    Masses and inertias EXCLUDE the blades. x, y move the pivot (and the hub
-    with it); pitch (nose up) and roll (right side down) turn the body about the
-    pivot, which is ``hub_height`` below the hub and is the body's centre of mass.
-
-    Parameters
-    ----------
-    dofs : tuple of str
-        Body degrees of freedom, a subset of ("x", "y", "pitch", "roll"), in any
-        order; stored in that order of BODY_DOFS (the model's coordinates).
-    mass_x, mass_y : float
-        Translating masses [kg].
-    inertia_pitch, inertia_roll : float
-        Inertias about the pivot [kg m^2].
-    stiffness_x, stiffness_y : float
-        [N/m]; stiffness_pitch, stiffness_roll [N m/rad].
-    damping_x, damping_y : float
-        [N s/m]; damping_pitch, damping_roll [N m s/rad].
-    hub_height : float
-        Hub centre above the pivot [m].
-    """
-
-    dofs: tuple = ("x", "y")
-    mass_x: float = 0.0
-    mass_y: float = 0.0
-    inertia_pitch: float = 0.0
-    inertia_roll: float = 0.0
-    stiffness_x: float = 0.0
-    stiffness_y: float = 0.0
-    stiffness_pitch: float = 0.0
-    stiffness_roll: float = 0.0
-    damping_x: float = 0.0
-    damping_y: float = 0.0
-    damping_pitch: float = 0.0
-    damping_roll: float = 0.0
-    hub_height: float = 0.0
-
-    def __post_init__(self):
-        dofs = tuple(self.dofs)
-        object.__setattr__(self, "dofs", dofs)
-        if not dofs:
-            raise ParameterError("dofs", list(dofs), f"needs at least one of {list(BODY_DOFS)}")
-        for d in dofs:
-            if d not in BODY_DOFS:
-                raise ParameterError("dofs", list(dofs), f"each entry must be one of {list(BODY_DOFS)}")
-        if len(set(dofs)) != len(dofs):
-            raise ParameterError("dofs", list(dofs), "each degree of freedom may appear once")
-        # a subset: its order carries no meaning, the model's coordinates follow BODY_DOFS
-        object.__setattr__(self, "dofs", tuple(d for d in BODY_DOFS if d in dofs))
-        for d in dofs:
-            _positive(self, self.inertia_key(d))
-            _non_negative(self, f"stiffness_{d}", f"damping_{d}")
-        if {"pitch", "roll"} & set(dofs):
-            h = self.hub_height
-            if not finite(h):
-                raise ParameterError("hub_height", h, "must be a finite number [m]")
-
-    @staticmethod
-    def inertia_key(dof: str) -> str:
-        """Name of the mass or inertia parameter of a body degree of freedom."""
-        return f"mass_{dof}" if dof in ("x", "y") else f"inertia_{dof}"
-
-    def value(self, kind: str, dof: str) -> float:
-        """``kind`` is "inertia" (mass or inertia), "stiffness" or "damping"."""
-        key = self.inertia_key(dof) if kind == "inertia" else f"{kind}_{dof}"
-        return getattr(self, key)
-
-    def pair_isotropic(self, a: str, b: str) -> bool:
-        """Whether two body dofs are both present with equal inertia, stiffness and damping."""
-        if a not in self.dofs or b not in self.dofs:
-            return False
-        return all(
-            math.isclose(self.value(k, a), self.value(k, b), rel_tol=1e-12, abs_tol=0.0)
-            for k in ("inertia", "stiffness", "damping")
-        )
-
-    @property
-    def isotropic(self) -> bool:
-        """True when the support looks the same in every direction of the rotor plane.
-
-        Translation needs x and y both present and identical (or both absent);
-        likewise pitch and roll.
-        """
-        ok = True
-        for a, b in (("x", "y"), ("pitch", "roll")):
-            present = (a in self.dofs) + (b in self.dofs)
-            ok &= present == 0 or self.pair_isotropic(a, b)
-        return ok
 
 
 @dataclass(frozen=True)
@@ -338,8 +208,8 @@ class Sweep:
     method: str = "auto"
 
     def __post_init__(self):
-        _non_negative(self, "start")
-        _positive(self, "stop")
+        non_negative(self, "start")
+        positive(self, "stop")
         if self.start >= self.stop:
             raise ParameterError("start", self.start, f"must be below stop ({self.stop})")
         p = self.points
@@ -349,7 +219,7 @@ class Sweep:
             if getattr(self, key) not in allowed:
                 raise ParameterError(key, getattr(self, key), f"must be one of {list(allowed)}")
         if self.reference is not None:
-            _positive(self, "reference")
+            positive(self, "reference")
 
     @property
     def speeds(self) -> np.ndarray:

@@ -77,7 +77,8 @@ def no_exact_reason(result, speed) -> str:
             f"the sweep is unstable below {speed(value)} (half the lowest body frequency), where the "
             "regressive lag mode meets no body mode: lag damping does not decide stability there"
         )
-    upto = f" {value:.4g} N m s/rad" if value is not None else " the largest tried"
+    unit = "N s/m" if result.case.rotor.dampers else "N m s/rad"
+    upto = f" {value:.4g} {unit}" if value is not None else " the largest tried"
     speeds = result.rotor_speed
     undamped = [
         e.body_mode
@@ -151,11 +152,26 @@ def summary(result) -> dict:
         "per_blade": [float(b.lag_damping) for b in case.rotor.blades],
         "failed_dampers": failed,
     }
+    rods = case.rotor.dampers
+    if rods:
+        lag["installed_note"] = (
+            "the cyclic (order 1) lag damping per blade: the smallest working blade-to-hub "
+            "rotational damper, plus the damper rods' c (g_a^2 + g_b^2 + 2 g_a g_b cos(2 pi j / N)) "
+            "averaged over the blades (g: the rod's length change per radian of lag of each blade it joins)"
+        )
+        lag["rods"] = [
+            {"kind": d.kind, "blade": d.blade, "damping": float(d.damping), "stiffness": float(d.stiffness)}
+            for d in rods
+        ]
+        lag["rods_unit"] = {"damping": "N s/m", "stiffness": "N/m"}
+    lag["exact_minimum_searched"] = "damper rods" if rods else "blade lag dampers"
+    lag["exact_minimum_unit"] = "N s/m" if rods else "N m s/rad"
     put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
     lag["exact_minimum_note"] = (
-        "smallest lag damping, set on every working damper (on every blade when none has "
-        "one), for which no root grows anywhere in the sweep (eigenvalues; body damping "
-        "as installed)"
+        "smallest damping, set on every working damper of the kind searched (the damper rods' "
+        "damping along the rod where the case has rods, else each blade's lag damper; on every "
+        "one when none has damping), for which no root grows anywhere in the sweep (body "
+        "damping as installed)"
     )
     lag["deutsch"] = [deutsch_entry(e, speeds) for e in result.deutsch]
     lag["deutsch_note"] = DEUTSCH_NOTE

@@ -13,7 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
-from . import mbc
+from . import dampers, mbc
 from .mbc import Coordinate
 from .params import BODY_DOFS, Body, Rotor
 from .symbolic.codegen import BLADE_ARGUMENTS, blade_function
@@ -51,10 +51,11 @@ class System:
         own = ~((rows < self.n_body) & (cols < self.n_body))
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
-        #: Blades whose lag damper works: those with one, or all of them where none has.
-        self.working = [b.lag_damping > 0 for b in rotor.blades]
+        #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
+        #: with damping, or all of them where none has.
+        self.working = [v > 0 for v in self.damper_values(every=True)]
         if not any(self.working):
-            self.working = [True] * self.n_blades
+            self.working = [True] * len(self.working)
         #: Damping matrices D_j (d, n, n), constant in azimuth, along which a split
         #: system takes dampings c_j set per speed, C = C_0 + sum_j c_j D_j
         #: (:meth:`split_damping`); none (d = 0) in a plain system.
@@ -82,22 +83,24 @@ class System:
 
         def one(blade):
             values = {name: getattr(blade, name) for name in BLADE_ARGUMENTS if hasattr(blade, name)}
-            arrays = blade_function()(speeds, hub_height=self.body.hub_height, **values)
+            hub = {k: getattr(self.body, k) for k in ("hub_height", "hub_x", "hub_y")}
+            arrays = blade_function()(speeds, **hub, **values)
             return np.moveaxis(arrays, -1, 0)[sel]
 
-        if self.rotor.identical:
+        if self.rotor.blades_alike:
             first = one(self.rotor.blades[0])
             return np.broadcast_to(first[:, None], (len(speeds), self.n_blades) + first.shape[1:])
         return np.stack([one(b) for b in self.rotor.blades], axis=1)
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
-        return np.stack(
-            [
-                np.diag([self.body.value(kind, d) for d in self.body.dofs])
-                for kind in ("inertia", "damping", "stiffness")
-            ]
-        )
+        return self.body.matrices()
+
+    @cached_property
+    def rod_matrices(self) -> np.ndarray:
+        """Damping and stiffness of the damper rods on these coordinates, (2, n, n):
+        constant (:mod:`groundres.dampers`)."""
+        return dampers.matrices(self.rotor, self.n_body, self.rotor.flap)
 
     def matrices(self, speeds, phase=0.0, harmonics=None):
         """Blade-coordinate matrices at blade-1 azimuth ``phase`` (= Omega t).
@@ -135,13 +138,50 @@ class System:
         out[..., :nb, :nb] += blades[..., :nb, :nb].sum(-3)
         flat, rows, cols = self._scatter
         out[..., rows, cols] = blades.reshape(blades.shape[:-3] + (-1,))[..., flat]
+        if self.rotor.dampers:
+            out[1:] += self.rod_matrices.reshape((2,) + (1,) * phase.ndim + (self.size, self.size))
         return out
 
-    def with_lag_damping(self, value: float) -> System:
-        """The same equations with lag damping ``value`` on every working damper.
+    @property
+    def searched(self) -> str:
+        """What a lag damping search sizes: "rods" (the damper rods' damping along the rod
+        [N s/m]) where the rotor has damper rods, else "blades" (each blade's rotational lag
+        damper [N m s/rad])."""
+        return "rods" if self.rotor.dampers else "blades"
 
-        A failed damper (none on a blade while others have one) stays failed.
+    def damper_values(self, every: bool = False) -> list:
+        """The installed values of the dampers a search sizes (:attr:`searched`): the working
+        ones, or ``every`` one (failed ones at 0)."""
+        parts = self.rotor.dampers if self.searched == "rods" else self.rotor.blades
+        values = [p.damping if self.searched == "rods" else p.lag_damping for p in parts]
+        return values if every else [v for v, w in zip(values, self.working) if w]
+
+    def damper_lever(self) -> float:
+        """Lag damping [N m s/rad] a blade sees per unit of the searched damper, at most
+        (1 for blade dampers; g^2 of the rods' lag gradients, summed per blade, for rods):
+        the scale that turns a rod's N s/m into the blades' N m s/rad."""
+        if self.searched == "blades":
+            return 1.0
+        per_blade = np.zeros(self.n_blades)
+        offsets = [b.hinge_offset for b in self.rotor.blades]
+        for damper, w in zip(self.rotor.dampers, self.working):
+            if w:
+                lag = damper.gradient(offsets, self.n_blades)[::2]
+                per_blade[list(damper.blades(self.n_blades))] += lag**2
+        return float(per_blade.max())
+
+    def with_lag_damping(self, value: float) -> System:
+        """The same equations with ``value`` on every working damper a search sizes
+        (:attr:`searched`: each blade's lag damper, or the damper rods' damping).
+
+        A failed damper (none on a blade, a rod without damping, while others have
+        one) stays failed.
         """
+        if self.searched == "rods":
+            rods = tuple(
+                replace(d, damping=value) if w else d for d, w in zip(self.rotor.dampers, self.working)
+            )
+            return System(replace(self.rotor, dampers=rods), self.body)
         blades = tuple(
             replace(b, lag_damping=value) if w else b for b, w in zip(self.rotor.blades, self.working)
         )

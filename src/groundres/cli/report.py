@@ -152,10 +152,22 @@ def deutsch_notes(summary: dict, sweep) -> list[str]:
     if "isotropic" in forms:
         text += "; x-y, pitch-roll: isotropic form (both directions alike)"
     if "planar" in forms:
-        text += "; x, y, pitch, roll: planar form"
+        coupled = any(e["body_mode"].startswith("mode ") for e in rows)
+        text += (
+            "; mode k: a mode of the body on its gear (rotor mass and inertia included), named by the "
+            "coordinate that moves most, referred to the hub's motion in the rotor plane; planar form"
+            if coupled
+            else "; x, y, pitch, roll: planar form"
+        )
     lag = summary["lag_damping"]
     if lag["installed"] == 0:
         installed = "Installed lag damping: none."
+    elif "rods" in lag:
+        installed = (
+            f"Installed: {lag['installed']:.5g} N m s/rad of cyclic lag damping per blade, from the blades' "
+            "own dampers and the damper rods (a rod between mirror-image points of blades j apart gives "
+            "c g^2 (2 - 2 cos(2 pi j / N)))."
+        )
     else:
         failed = f" ({lag['failed_dampers']} failed)" if lag["failed_dampers"] else ""
         installed = f"Installed: {lag['installed']:.5g} N m s/rad, the smallest working lag damper{failed}."
@@ -210,17 +222,23 @@ def print_result(console, result, out_dir) -> None:
         console.print(line)
     lag = summary["lag_damping"]
     exact = lag["exact_minimum"]
-    which = "every blade" if result.case.rotor.identical else "every working damper"
-    installed = f"installed: {_installed(lag)}"
+    unit = lag["exact_minimum_unit"]
+    if "rods" in lag:
+        what = "damper-rod damping"
+        which = "every rod" if result.case.rotor.identical else "every working rod"
+        values = sorted({r["damping"] for r in lag["rods"] if r["damping"] > 0})
+        installed = "installed: " + (f"{values[0]:.5g} N s/m" if len(values) == 1 else "rods differ")
+    else:
+        what = "lag damping"
+        which = "every blade" if result.case.rotor.identical else "every working damper"
+        installed = f"installed: {_installed(lag)}"
     if exact is None:
         why = no_exact_reason(result, lambda w: fmt_speed(w, sweep))
-        console.print(f"Exact minimum lag damping (on {which}): none: {why} ({installed}).")
+        console.print(f"Exact minimum {what} (on {which}): none: {why} ({installed}).")
     elif exact == 0:
-        console.print(f"Exact minimum lag damping: 0, the sweep is stable without lag damping ({installed}).")
+        console.print(f"Exact minimum {what}: 0, the sweep is stable without it ({installed}).")
     else:
-        console.print(
-            f"Exact minimum lag damping (on {which}, from the roots): {exact:.5g} N m s/rad ({installed})."
-        )
+        console.print(f"Exact minimum {what} (on {which}, from the roots): {exact:.5g} {unit} ({installed}).")
     console.print(
         f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.png, case.toml, provenance.json"
     )

@@ -35,6 +35,10 @@ def units_of(case, keys) -> dict:
         name = key.rpartition(".")[2]
         if key in ("sweep.start", "sweep.stop", "sweep.reference"):
             out[key] = case.sweep.unit
+        elif key.startswith("rotor.damper["):  # (a rod: along it)
+            out[key] = {"damping": "N s/m", "stiffness": "N/m"}.get(name, "m")
+        elif name.startswith(("position_", "centre_")):
+            out[key] = "m"
         elif name in _UNITS:
             out[key] = _UNITS[name]
         else:  # body keys: mass_x, stiffness_pitch, damping_roll, ... ("" for a key unknown here)
@@ -52,6 +56,9 @@ _UNITS = {
     "blade_static_moment": "kg m",
     "blade_inertia": "kg m^2",
     "hub_height": "m",
+    "hub_x": "m",
+    "hub_y": "m",
+    "mass": "kg",
     "lag_stiffness": "N m/rad",
     "lag_damping": "N m s/rad",
     "flap_stiffness": "N m/rad",
@@ -138,14 +145,16 @@ def worst_over_failures(ds: xr.Dataset) -> xr.Dataset:
 
 def design_point(case, grid: Grid) -> dict:
     """The case's own value of each varied key (where the case file gives it)."""
-    from .grid import _BLADE
+    from .grid import _tables, entry_of
 
     data, out = raw(case), {}
     for key in grid.keys:
-        blade = _BLADE.match(key)
-        if blade:
-            entry = next((b for b in data["rotor"].get("blade", []) if b.get("index") == int(blade[1])), {})
-            value = entry.get(blade[2], data["rotor"].get(blade[2]))
+        entry = entry_of(key)
+        if entry and entry[0] == "rotor.blade":
+            table = next((b for b in data["rotor"].get("blade", []) if b.get("index") == entry[1]), {})
+            value = table.get(entry[2], data["rotor"].get(entry[2]))
+        elif entry:
+            value = _tables(data, entry[0])[entry[1] - 1].get(entry[2])
         else:
             table, _, name = key.rpartition(".")
             value = data.get(table, {}).get(name)

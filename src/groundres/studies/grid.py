@@ -1,9 +1,11 @@
 """The grid of a design study: which case keys vary, over which values, and the failures.
 
 A varied key is any number key of the case file in dotted form, as the case
-file nests it: ``rotor.lag_damping``, ``body.damping_x``, ``sweep.stop``, and
-``rotor.blade[k].<key>`` for blade k (1-based, the ``index`` of a
-``[[rotor.blade]]`` table, which is added where the case has none). The keys
+file nests it: ``rotor.lag_damping``, ``body.damping_x``, ``sweep.stop``; in a
+repeated table, ``rotor.blade[k].<key>`` for blade k (1-based, the ``index``
+of a ``[[rotor.blade]]`` table, which is added where the case has none), and
+``rotor.damper[k].<key>``, ``body.gear[k].<key>`` for the k-th such table of
+the case file (1-based, in the file's order). The keys
 and their types come from the case-file schema (:data:`groundres.config.SCHEMA`),
 so a key added to the format later is variable without code here. Values are
 in the case's own units (``sweep.stop`` in the sweep's unit).
@@ -35,7 +37,16 @@ MAX_POINTS = 1_000_000
 #: Name of the failure dimension and of its entry with every damper working.
 FAILURE, NO_FAILURE = "failure", "none"
 
-_BLADE = re.compile(r"^rotor\.blade\[([0-9]+)\]\.([a-z_]+)$", re.ASCII)
+#: Repeated tables ([[...]]) of the format, found in its schema.
+REPEATED = tuple(
+    t
+    for t in SCHEMA
+    if "." in t and SCHEMA[t.rpartition(".")[0]].get(t.rpartition(".")[2]) == "an array of tables"
+)
+#: A key of one entry of a repeated table: (table, k, key).
+_ENTRY = re.compile(rf"^({'|'.join(re.escape(t) for t in REPEATED)})\[([0-9]+)\]\.([a-z_]+)$", re.ASCII)
+#: The key that names an entry of a repeated table (others are named by their place).
+_NAMED_BY = {t: "index" for t in REPEATED if SCHEMA[t].get("index") == "a whole number"}
 
 
 class StudyError(CaseError):
@@ -43,26 +54,29 @@ class StudyError(CaseError):
 
 
 def numeric_keys() -> list[str]:
-    """Every varied key the case format has (``rotor.blade[k].*`` shown with k)."""
+    """Every varied key the case format has (a repeated table's shown with [k])."""
     out = []
     for table, keys in SCHEMA.items():
         for key, kind in keys.items():
-            if kind in ("a number", "a whole number") and table != "rotor.blade":
+            if kind not in ("a number", "a whole number") or key == _NAMED_BY.get(table):
+                continue
+            if table in REPEATED:
+                out.append(f"{table}[k].{key}")
+            else:
                 out.append(f"{table}.{key}" if table else key)
-    out += [f"rotor.blade[k].{key}" for key, kind in SCHEMA["rotor.blade"].items() if kind == "a number"]
     return out
 
 
 def key_kind(key: str) -> str:
     """ "a number" or "a whole number" for a variable key; StudyError naming it otherwise."""
-    blade = _BLADE.match(key)
-    if blade:
-        table, name = "rotor.blade", blade[2]
+    entry = _ENTRY.match(key)
+    if entry:
+        table, name = entry[1], entry[3]
     else:
         table, _, name = key.rpartition(".")
     kind = SCHEMA.get(table, {}).get(name)
-    if blade is None and table == "rotor.blade" or (blade and name == "index"):
-        kind = None  # (a blade's keys need its index; its index is no design value)
+    if entry is None and table in REPEATED or (entry and name == _NAMED_BY.get(table)):
+        kind = None  # (an entry's keys need its number; the number names it, it is no design value)
     if kind not in ("a number", "a whole number"):
         near = difflib.get_close_matches(key, numeric_keys(), n=1, cutoff=0.6)
         hint = f"; did you mean '{near[0]}'?" if near else "; see the case-file keys (docs/case-files.md)"
@@ -76,8 +90,14 @@ def key_kind(key: str) -> str:
 def canonical(key: str) -> str:
     """A varied key as the study names it (``rotor.blade[02].x`` is ``rotor.blade[2].x``)."""
     key = key.strip()
-    blade = _BLADE.match(key)
-    return f"rotor.blade[{int(blade[1])}].{blade[2]}" if blade else key
+    entry = _ENTRY.match(key)
+    return f"{entry[1]}[{int(entry[2])}].{entry[3]}" if entry else key
+
+
+def entry_of(key: str):
+    """(table, k, name) of a key of one entry of a repeated table, or None."""
+    entry = _ENTRY.match(key)
+    return (entry[1], int(entry[2]), entry[3]) if entry else None
 
 
 def parse_values(key: str, spec) -> np.ndarray:
@@ -185,11 +205,21 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
     values = tuple(parse_values(k, vary[given]) for k, given in zip(keys, vary))
     data = raw(case)
     for key in keys:
-        blade = _BLADE.match(key)
-        if blade and not 1 <= int(blade[1]) <= data["rotor"]["blades"]:
-            raise StudyError(
-                f"--vary {key}: blade {blade[1]} does not exist (blades = {data['rotor']['blades']})"
-            )
+        entry = entry_of(key)
+        if entry and entry[0] in _NAMED_BY:
+            if not 1 <= entry[1] <= data["rotor"]["blades"]:
+                raise StudyError(
+                    f"--vary {key}: blade {entry[1]} does not exist (blades = {data['rotor']['blades']})"
+                )
+        elif entry:
+            count = len(_tables(data, entry[0]))
+            if not 1 <= entry[1] <= count:
+                raise StudyError(
+                    f"--vary {key}: the case has {count} [[{entry[0]}]] table{'s' if count != 1 else ''}, "
+                    f"so k is 1 to {count}"
+                    if count
+                    else f"--vary {key}: the case has no [[{entry[0]}]] table"
+                )
     names = ()
     if failures is not None:
         if failures != "single":
@@ -229,15 +259,23 @@ def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str
     for key, value in values.items():
         kind = key_kind(key)
         number = int(round(value)) if kind == "a whole number" else float(value)
-        blade = _BLADE.match(key)
-        if blade:
-            _blade_table(data, int(blade[1]))[blade[2]] = number
+        entry = entry_of(key)
+        if entry and entry[0] in _NAMED_BY:
+            _blade_table(data, entry[1])[entry[2]] = number
+        elif entry:
+            _tables(data, entry[0])[entry[1] - 1][entry[2]] = number
         else:
             table, _, name = key.rpartition(".")
             data.setdefault(table, {})[name] = number
     if failure != NO_FAILURE:
         _blade_table(data, int(failure.split()[-1]))["lag_damping"] = 0.0
     return parse_case(data, source)
+
+
+def _tables(data: dict, table: str) -> list:
+    """The case's entries of a repeated table (a list, empty where it has none)."""
+    parent, _, name = table.rpartition(".")
+    return data.get(parent, {}).get(name, [])
 
 
 def _blade_table(data: dict, index: int) -> dict:

@@ -68,15 +68,15 @@ def compute_points(data: dict, source: str, grid: Grid, flats) -> dict:
 
 
 def failure_class(data, values, failure, source) -> str:
-    """``failure``, or :data:`ANY_BLADE` where every blade of the point's case is alike (so any
-    single failure is the same rotor turned)."""
+    """``failure``, or :data:`ANY_BLADE` where the point's rotor looks the same from every blade
+    (blades and damper rods alike: so any single failure is the same rotor turned)."""
     if failure == NO_FAILURE:
         return failure
     try:
-        blades = varied_case(data, values, NO_FAILURE, source).rotor.blades
+        rotor = varied_case(data, values, NO_FAILURE, source).rotor
     except POINT_ERRORS:  # (the point itself says what is wrong)
         return failure
-    return ANY_BLADE if all(b == blades[0] for b in blades) else failure
+    return ANY_BLADE if rotor.identical else failure
 
 
 def compute(data, source, grid, store: Path | None = None, fresh=None, client=None, progress=None):

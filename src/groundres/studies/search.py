@@ -75,11 +75,9 @@ def lines(data, source, others, key, span, flats) -> list[dict]:
     for i in flats:
         values, failure = others.point(int(i))
         # (alike all along the line: at both ends of a rotor-wide key, whose blade overrides, if
-        # any, stay put while it moves; a key of one blade makes them differ)
+        # any, stay put while it moves; a key of one blade, rod or leg makes them differ)
         ends = [{**values, key: v} for v in span[:2]]
-        alike = not key.startswith("rotor.blade[") and all(
-            failure_class(data, end, failure, source) != failure for end in ends
-        )
+        alike = "[" not in key and all(failure_class(data, end, failure, source) != failure for end in ends)
         ident = (tuple(values.items()), ANY_BLADE if alike else failure)
         if ident in seen:  # (no sweep of its own: another line turned)
             out.append({**seen[ident], "evaluations": 0})

@@ -1,16 +1,19 @@
 """The one place where symbolic expressions become code, shipped in the package.
 
-The blade derivation (:mod:`groundres.symbolic.derive`) takes tens of seconds,
+The derivations (:mod:`groundres.symbolic.derive`) take tens of seconds,
 so it does not run when groundres is used. The project runs it once and
 commits its result as two generated modules of the package:
 
 ``generated_numpy.py``
     ``blade_harmonics``, the harmonic coefficient matrices as NumPy
     assignments (no SymPy), used by the numeric core through
-    :func:`blade_function`.
+    :func:`blade_function`; likewise ``rigid_body_mass``, ``leg_matrix``,
+    ``rod_to_hub`` and ``rod_to_blade`` (:func:`generated`) for a body on
+    gear legs and damper rods.
 ``generated_sympy.py``
     the same matrices as SymPy expressions in plain source, rebuilt by
-    :func:`blade_equations` for ``groundres equations`` and the tests.
+    :func:`blade_equations` and :func:`symbolic` for ``groundres equations``
+    and the tests.
 
 Nothing is read from a cache, imported from a user folder or evaluated from
 text: both modules are ordinary package code. After editing ``derive.py``
@@ -37,6 +40,8 @@ BLADE_ARGUMENTS = (
     "blade_inertia",
     "hinge_offset",
     "hub_height",
+    "hub_x",
+    "hub_y",
     "lag_stiffness",
     "lag_damping",
     "flap_stiffness",
@@ -49,9 +54,34 @@ NUMPY_MODULE = "generated_numpy.py"
 SYMPY_MODULE = "generated_sympy.py"
 _HERE = Path(__file__).resolve().parent
 
-# Generated code is not formatted by ruff (its text must stay exactly what the
-# generator writes) and may have long lines.
-_PRAGMAS = ("# fmt: off", "# ruff: noqa: E501")
+# Generated code is neither formatted nor linted by ruff: its text must stay
+# exactly what the generator writes.
+_PRAGMAS = ("# fmt: off", "# ruff: noqa")
+
+
+def _functions():
+    """name -> (symbol dict of its arguments (name -> symbol, in order), shape of its array,
+    derivation): every generated function (the blade's first)."""
+    from . import derive
+
+    return {
+        "blade_harmonics": (
+            {"rotor_speed": derive.rotor_speed, **derive.BLADE_SYMBOLS},
+            (3, 5, len(derive.LOCAL_DOFS), len(derive.LOCAL_DOFS)),
+            derive.derive_blade,
+        ),
+        "rigid_body_mass": (derive.RIGID_SYMBOLS, (6, 6), derive.derive_rigid_body),
+        "leg_matrix": (derive.LEG_SYMBOLS, (6, 6), derive.derive_leg),
+        "rod_to_hub": (_rod_symbols(to_hub=True), (2,), lambda: derive.derive_rod(True)),
+        "rod_to_blade": (_rod_symbols(to_hub=False), (4,), lambda: derive.derive_rod(False)),
+    }
+
+
+def _rod_symbols(to_hub: bool) -> dict:
+    from .derive import ROD_SYMBOLS
+
+    skip = ("end_hinge_offset", "spacing") if to_hub else ()
+    return {k: v for k, v in ROD_SYMBOLS.items() if k not in skip}
 
 
 def blade_function():
@@ -59,7 +89,7 @@ def blade_function():
 
     ``blade_harmonics(rotor_speed, blade_mass, ...)`` takes BLADE_ARGUMENTS
     (broadcastable arrays, SI) and returns an array of shape
-    ``(3, 5, 6, 6) + broadcast shape``: [mass, damping, stiffness] x harmonics
+    ``(3, 5, 8, 8) + broadcast shape``: [mass, damping, stiffness] x harmonics
     (1, cos psi, sin psi, cos 2 psi, sin 2 psi) x LOCAL_DOFS x LOCAL_DOFS.
     """
     from .generated_numpy import blade_harmonics
@@ -67,40 +97,79 @@ def blade_function():
     return blade_harmonics
 
 
+def generated(name: str):
+    """A generated NumPy function by name: ``rigid_body_mass`` (6 x 6), ``leg_matrix`` (6 x 6),
+    ``rod_to_hub`` (2,), ``rod_to_blade`` (4,) (:mod:`groundres.symbolic.derive`), each
+    taking its arguments by keyword (broadcastable arrays, SI) and returning its array
+    with the broadcast shape last."""
+    from . import generated_numpy
+
+    return getattr(generated_numpy, name)
+
+
 def blade_equations():
     """The symbolic blade equations (BladeEquations), rebuilt from the generated module."""
     import sympy as sp
 
     from .derive import HARMONICS, LOCAL_DOFS, BladeEquations
-    from .generated_sympy import nonzero_entries
+    from .generated_sympy import blade_harmonics
 
     n = len(LOCAL_DOFS)
     groups = [[sp.zeros(n, n) for _ in HARMONICS] for _ in GROUPS]
-    for (g, h, i, j), expr in nonzero_entries():
+    for (g, h, i, j), expr in blade_harmonics():
         groups[g][h][i, j] = expr
     return BladeEquations(*(tuple(group) for group in groups))
 
 
-def _nonzero(equations):
-    """((group, harmonic, row, column), expression) of every nonzero entry, in index order.
-
-    The blade symbols are renamed to BLADE_ARGUMENTS (valid, unambiguous
-    Python names: the symbols ``S`` and ``I`` would clash with SymPy's).
-    """
+def symbolic(name: str):
+    """A generated function's array as a SymPy matrix (2 indices) or column (1), rebuilt
+    from the generated module (``blade_harmonics``: see :func:`blade_equations`)."""
     import sympy as sp
 
-    from .derive import BLADE_SYMBOLS, rotor_speed
+    from . import generated_sympy
 
-    symbols = {"rotor_speed": rotor_speed, **BLADE_SYMBOLS}
-    rename = {symbols[name]: sp.Symbol(name) for name in BLADE_ARGUMENTS}
-    entries = []
-    for g, name in enumerate(GROUPS):
-        for h, matrix in enumerate(getattr(equations, name)):
-            for i in range(matrix.rows):
-                for j in range(matrix.cols):
-                    if matrix[i, j] != 0:
-                        entries.append(((g, h, i, j), matrix[i, j].xreplace(rename)))
-    return entries
+    shape = _functions()[name][1]
+    out = sp.zeros(shape[0], shape[1] if len(shape) > 1 else 1)
+    for index, expr in getattr(generated_sympy, name)():
+        out[index if len(index) > 1 else (index[0], 0)] = expr
+    return out
+
+
+def _as_array(name: str, derived):
+    """(index, expression) of every nonzero entry of a derivation's result, in index order."""
+    if name == "blade_harmonics":
+        return [
+            ((g, h, i, j), matrix[i, j])
+            for g, group in enumerate(GROUPS)
+            for h, matrix in enumerate(getattr(derived, group))
+            for i in range(matrix.rows)
+            for j in range(matrix.cols)
+            if matrix[i, j] != 0
+        ]
+    if derived.cols == 1:
+        return [((i,), derived[i, 0]) for i in range(derived.rows) if derived[i, 0] != 0]
+    return [
+        ((i, j), derived[i, j])
+        for i in range(derived.rows)
+        for j in range(derived.cols)
+        if derived[i, j] != 0
+    ]
+
+
+def _nonzero(name: str, derived):
+    """((index), expression) of every nonzero entry, the symbols renamed to the argument
+    names (valid, unambiguous Python names: the symbols ``S`` and ``I`` would clash with
+    SymPy's)."""
+    import sympy as sp
+
+    symbols = _functions()[name][0]
+    rename = {symbol: sp.Symbol(arg) for arg, symbol in symbols.items()}
+    return [(index, expr.xreplace(rename)) for index, expr in _as_array(name, derived)]
+
+
+def derive_all() -> dict:
+    """name -> derivation result of every generated function (tens of seconds)."""
+    return {name: derivation() for name, (_, _, derivation) in _functions().items()}
 
 
 def _header(what: str) -> list[str]:
@@ -117,37 +186,44 @@ def _header(what: str) -> list[str]:
     ]
 
 
-def numpy_source(equations) -> str:
-    """Source of ``generated_numpy.py``: ``blade_harmonics`` for derived blade equations."""
+def numpy_source(derived: dict) -> str:
+    """Source of ``generated_numpy.py``: one NumPy function per derivation."""
     import sympy as sp
     from sympy.printing.numpy import NumPyPrinter
 
-    entries = _nonzero(equations)
-    shared, reduced = sp.cse([expr for _, expr in entries], symbols=sp.numbered_symbols("t_"))
     printer = NumPyPrinter({"fully_qualified_modules": True, "inline": True})
-    args = ", ".join(BLADE_ARGUMENTS)
     lines = [
-        *_header("Harmonic coefficient matrices of one blade's equations, as NumPy code."),
+        *_header("Derived matrices (blade equations, rigid body, gear leg, damper rods) as NumPy code."),
         "import numpy",
-        "",
-        "",
-        f"def blade_harmonics({args}):",
-        '    """Blade coefficient arrays, shape (3, 5, 6, 6) + broadcast (see codegen.blade_function)."""',
-        f"    broadcast = numpy.broadcast_arrays({args})",
-        f"    {args} = [numpy.asarray(a, dtype=float) for a in broadcast]",
-        "    out = numpy.zeros((3, 5, 6, 6) + rotor_speed.shape)",
     ]
-    for name, expr in shared:
-        lines.append(f"    {name} = {printer.doprint(expr)}")
-    for ((g, h, i, j), _), expr in zip(entries, reduced):
-        lines.append(f"    out[{g}, {h}, {i}, {j}] = {printer.doprint(expr)}")
-    lines.append("    return out")
+    for name, (symbols, shape, _) in _functions().items():
+        entries = _nonzero(name, derived[name])
+        shared, reduced = sp.cse([expr for _, expr in entries], symbols=sp.numbered_symbols("t_"))
+        args = ", ".join(symbols)
+        first = next(iter(symbols))
+        lines += [
+            "",
+            "",
+            f"def {name}({args}):",
+            f'    """Array of shape {shape} + broadcast shape (see codegen)."""',
+            f"    broadcast = numpy.broadcast_arrays({args})",
+            f"    {args}, = [numpy.asarray(a, dtype=float) for a in broadcast]",
+            f"    out = numpy.zeros({shape} + {first}.shape)",
+        ]
+        lines += [f"    {var} = {printer.doprint(expr)}" for var, expr in shared]
+        lines += [
+            f"    out[{', '.join(map(str, index))}] = {printer.doprint(expr)}"
+            for (index, _), expr in zip(entries, reduced)
+        ]
+        lines.append("    return out")
     return "\n".join(lines) + "\n"
 
 
-def sympy_source(equations) -> str:
+def sympy_source(derived: dict) -> str:
     """Source of ``generated_sympy.py``: the nonzero entries as SymPy expressions."""
     from sympy.printing.str import StrPrinter
+
+    from . import derive
 
     class SourcePrinter(StrPrinter):
         # Every number stays exact: a bare fraction would otherwise print as
@@ -161,31 +237,52 @@ def sympy_source(equations) -> str:
         _print_Half = _print_Rational
 
     printer = SourcePrinter({"order": None})
-    body = [f"        ({index}, {printer.doprint(expr)})," for index, expr in _nonzero(equations)]
-    imports = ["from sympy import Rational", ""] if any("Rational(" in line for line in body) else []
+    tables = {
+        id(getattr(derive, t)): t for t in ("BLADE_SYMBOLS", "RIGID_SYMBOLS", "LEG_SYMBOLS", "ROD_SYMBOLS")
+    }
+    functions = []
+    for name, (symbols, _, _) in _functions().items():
+        body = [
+            f"        ({index}, {printer.doprint(expr)})," for index, expr in _nonzero(name, derived[name])
+        ]
+        binds = []
+        for arg, symbol in symbols.items():
+            if arg == "rotor_speed":
+                binds.append("    rotor_speed = derive.rotor_speed")
+                continue
+            table = next(
+                t
+                for i, t in tables.items()
+                if arg in getattr(derive, t) and getattr(derive, t)[arg] == symbol
+            )
+            binds.append(f'    {arg} = derive.{table}["{arg}"]')
+        functions += [
+            "",
+            "",
+            f"def {name}():",
+            '    """((index), expression) of every nonzero entry (see codegen)."""',
+            *binds,
+            "    return (",
+            *body,
+            "    )",
+        ]
+    text = "\n".join(functions)
+    used = [f for f in ("Rational", "cos", "sin", "sqrt") if f"{f}(" in text]
+    imports = [f"from sympy import {', '.join(used)}", ""] if used else []
     lines = [
-        *_header("Harmonic coefficient matrices of one blade's equations, as SymPy expressions."),
+        *_header(
+            "Derived matrices (blade equations, rigid body, gear leg, damper rods) as SymPy expressions."
+        ),
         *imports,
-        "from .derive import BLADE_SYMBOLS, rotor_speed",
-        "",
-        "",
-        "def nonzero_entries():",
-        '    """((group, harmonic, row, column), expression) of every nonzero entry (see codegen)."""',
-        *(f'    {name} = BLADE_SYMBOLS["{name}"]' for name in BLADE_ARGUMENTS[1:]),
-        "    return (",
-        *body,
-        "    )",
+        "from . import derive",
     ]
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines) + text + "\n"
 
 
-def generated_sources(equations=None) -> dict[str, str]:
+def generated_sources(derived: dict | None = None) -> dict[str, str]:
     """File name -> text of the two generated modules (derives if not given)."""
-    if equations is None:
-        from .derive import derive_blade
-
-        equations = derive_blade()
-    return {NUMPY_MODULE: numpy_source(equations), SYMPY_MODULE: sympy_source(equations)}
+    derived = derive_all() if derived is None else derived
+    return {NUMPY_MODULE: numpy_source(derived), SYMPY_MODULE: sympy_source(derived)}
 
 
 def main(argv=None) -> int:

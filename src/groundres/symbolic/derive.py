@@ -1,8 +1,9 @@
 """Linearised equations of motion of one blade on a moving body, from its energies.
 
-The model (see ``docs/conventions.md``): a body whose pivot translates in x and
-y and which pitches and rolls about that pivot; the hub is ``hub_height`` above
-the pivot; a rigid blade hinged at ``hinge_offset`` from the shaft lags (positive
+The model (see ``docs/conventions.md``): a body whose reference point (the
+pivot) translates in x, y and z and which pitches, rolls and yaws about it;
+the hub centre is at (``hub_x``, ``hub_y``, ``hub_height``) from the pivot in
+body axes; a rigid blade hinged at ``hinge_offset`` from the shaft lags (positive
 against the rotation) and flaps (positive up) about that hinge, with root
 springs and dampers. All blade mass lies on its span axis beyond the hinge, so
 the blade enters through its mass ``m``, static moment ``S`` and inertia ``I``
@@ -38,10 +39,12 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-#: Local coordinates of one blade's equations: the four body coordinates,
+#: Local coordinates of one blade's equations: the six body coordinates,
 #: then the blade's own lag and flap angles.
-LOCAL_DOFS = ("x", "y", "pitch", "roll", "lag", "flap")
-BODY_DOFS = LOCAL_DOFS[:4]
+LOCAL_DOFS = ("x", "y", "z", "pitch", "roll", "yaw", "lag", "flap")
+BODY_DOFS = LOCAL_DOFS[:6]
+#: Body coordinates that translate (their inertia is a mass).
+TRANSLATIONS = ("x", "y", "z")
 #: Harmonics of the blade azimuth, in the order of the coefficient arrays.
 HARMONICS = ("0", "c1", "s1", "c2", "s2")
 
@@ -52,6 +55,8 @@ BLADE_SYMBOLS = dict(
     blade_inertia=sp.Symbol("I", positive=True),
     hinge_offset=sp.Symbol("e", nonnegative=True),
     hub_height=sp.Symbol("h", real=True),
+    hub_x=sp.Symbol("h_x", real=True),
+    hub_y=sp.Symbol("h_y", real=True),
     lag_stiffness=sp.Symbol("K_zeta", nonnegative=True),
     lag_damping=sp.Symbol("C_zeta", nonnegative=True),
     flap_stiffness=sp.Symbol("K_beta", nonnegative=True),
@@ -61,21 +66,25 @@ BODY_SYMBOLS = {
     f"{kind}_{dof}": sp.Symbol(f"{letter}_{dof}", **assume)
     for dof in BODY_DOFS
     for kind, letter, assume in (
-        ("mass" if dof in ("x", "y") else "inertia", "M" if dof in ("x", "y") else "J", {"positive": True}),
+        (
+            "mass" if dof in TRANSLATIONS else "inertia",
+            "M" if dof in TRANSLATIONS else "J",
+            {"positive": True},
+        ),
         ("stiffness", "K", {"nonnegative": True}),
         ("damping", "C", {"nonnegative": True}),
     )
 }
 #: Coordinate symbols (q) and rate symbols (qd), in LOCAL_DOFS order.
-COORDS = sp.symbols("x y theta phi zeta beta", real=True)
-RATES = sp.symbols("xd yd thetad phid zetad betad", real=True)
+COORDS = sp.symbols("x y z theta phi chi zeta beta", real=True)
+RATES = sp.symbols("xd yd zd thetad phid chid zetad betad", real=True)
 
 
 @dataclass(frozen=True)
 class BladeEquations:
     """Harmonic coefficient matrices of one blade's linear equations.
 
-    ``mass[h]``, ``damping[h]``, ``stiffness[h]`` are 6 x 6 SymPy matrices in
+    ``mass[h]``, ``damping[h]``, ``stiffness[h]`` are 8 x 8 SymPy matrices in
     LOCAL_DOFS order for harmonic ``h`` of HARMONICS; the blade's contribution
     at azimuth psi is ``sum_h X[h] * trig_h(psi)``.
     """
@@ -85,11 +94,12 @@ class BladeEquations:
     stiffness: tuple
 
     def at_azimuth(self, psi=azimuth):
-        """The three 6 x 6 matrices as functions of the azimuth ``psi``."""
+        """The three 8 x 8 matrices as functions of the azimuth ``psi``."""
         trig = (1, sp.cos(psi), sp.sin(psi), sp.cos(2 * psi), sp.sin(2 * psi))
+        n = len(LOCAL_DOFS)
 
         def combine(group):
-            return sp.Matrix(6, 6, lambda i, j: sp.expand(sum(c * X[i, j] for c, X in zip(trig, group))))
+            return sp.Matrix(n, n, lambda i, j: sp.expand(sum(c * X[i, j] for c, X in zip(trig, group))))
 
         return tuple(combine(group) for group in (self.mass, self.damping, self.stiffness))
 
@@ -152,14 +162,15 @@ def derive_blade() -> BladeEquations:
     BladeEquations
         Harmonic coefficient matrices of mass, damping and stiffness.
     """
-    x, y, theta, phi, zeta, beta = COORDS
+    x, y, z, theta, phi, chi, zeta, beta = COORDS
     p = BLADE_SYMBOLS
-    ez = sp.Matrix([0, 0, 1])
     ex = sp.Matrix([1, 0, 0])
-    # Roll about +x (right side down), pitch nose up (about -y).
-    body = _rot_x(phi) * _rot_y(-theta)
+    # Yaw about +z (nose left, with the rotor), then roll about +x (right side
+    # down), then pitch nose up (about -y).
+    body = _rot_z(chi) * _rot_x(phi) * _rot_y(-theta)
     hub_frame = body * _rot_z(azimuth)
-    hinge = sp.Matrix([x, y, 0]) + body * (p["hub_height"] * ez) + hub_frame * (p["hinge_offset"] * ex)
+    hub = sp.Matrix([p["hub_x"], p["hub_y"], p["hub_height"]])
+    hinge = sp.Matrix([x, y, z]) + body * hub + hub_frame * (p["hinge_offset"] * ex)
     # Lag against the rotation, flap up; the order of the two hinges changes
     # only terms of third order in the coordinates.
     span = hub_frame * sp.Matrix([sp.cos(beta) * sp.cos(zeta), -sp.cos(beta) * sp.sin(zeta), sp.sin(beta)])
@@ -174,36 +185,173 @@ def derive_blade() -> BladeEquations:
     grad_q = [kinetic.diff(q) for q in COORDS]
     grad_qd = [kinetic.diff(qd) for qd in RATES]
 
+    n = len(LOCAL_DOFS)
+
     def hess(grads, variables):
-        return sp.Matrix(6, 6, lambda i, j: sp.expand(sp.simplify(grads[i].diff(variables[j]).subs(zero))))
+        return sp.Matrix(n, n, lambda i, j: sp.expand(sp.simplify(grads[i].diff(variables[j]).subs(zero))))
 
     m_t = hess(grad_qd, RATES)  # d2T/dqd dqd
     b_t = hess(grad_qd, COORDS)  # T contains qd' b_t q
     k_t = hess(grad_q, COORDS)
-    c_d = sp.diag(0, 0, 0, 0, p["lag_damping"], p["flap_damping"])
-    k_v = sp.diag(0, 0, 0, 0, p["lag_stiffness"], p["flap_stiffness"])
+    c_d = sp.diag(*[0] * len(BODY_DOFS), p["lag_damping"], p["flap_damping"])
+    k_v = sp.diag(*[0] * len(BODY_DOFS), p["lag_stiffness"], p["flap_stiffness"])
     mass = m_t
     damping = m_t.diff(azimuth) * rotor_speed + b_t - b_t.T + c_d
     stiffness = b_t.diff(azimuth) * rotor_speed - k_t + k_v
 
     def split(matrix):
-        entries = [_harmonics(matrix[i, j]) for i in range(6) for j in range(6)]
-        return tuple(sp.Matrix(6, 6, [e[h] for e in entries]) for h in range(len(HARMONICS)))
+        entries = [_harmonics(matrix[i, j]) for i in range(n) for j in range(n)]
+        return tuple(sp.Matrix(n, n, [e[h] for e in entries]) for h in range(len(HARMONICS)))
 
     return BladeEquations(split(mass), split(damping), split(stiffness))
 
 
 def body_matrices():
-    """Mass, damping and stiffness of the body alone (4 x 4, BODY_DOFS order).
+    """Mass, damping and stiffness of the modal body alone (6 x 6, BODY_DOFS order).
 
     The body's kinetic energy is 1/2 sum M_i qd_i^2 (the pivot is its centre of
     mass), its potential energy 1/2 sum K_i q_i^2 and its dissipation function
     1/2 sum C_i qd_i^2; blades are not included.
     """
     b = BODY_SYMBOLS
-    names = [("mass" if d in ("x", "y") else "inertia") + f"_{d}" for d in BODY_DOFS]
+    names = [("mass" if d in TRANSLATIONS else "inertia") + f"_{d}" for d in BODY_DOFS]
     return (
         sp.diag(*[b[n] for n in names]),
         sp.diag(*[b[f"damping_{d}"] for d in BODY_DOFS]),
         sp.diag(*[b[f"stiffness_{d}"] for d in BODY_DOFS]),
     )
+
+
+# -- the body as a rigid helicopter on gear legs, and damper rods ------------------
+
+#: The rigid body: mass, inertia tensor about its centre of mass (body axes), and
+#: the centre of mass from the pivot (the reference point of the body coordinates).
+RIGID_SYMBOLS = dict(
+    mass=sp.Symbol("M_b", positive=True),
+    inertia_xx=sp.Symbol("J_xx", real=True),
+    inertia_yy=sp.Symbol("J_yy", real=True),
+    inertia_zz=sp.Symbol("J_zz", real=True),
+    inertia_xy=sp.Symbol("J_xy", real=True),
+    inertia_xz=sp.Symbol("J_xz", real=True),
+    inertia_yz=sp.Symbol("J_yz", real=True),
+    centre_x=sp.Symbol("c_x", real=True),
+    centre_y=sp.Symbol("c_y", real=True),
+    centre_z=sp.Symbol("c_z", real=True),
+)
+#: A gear leg: where it meets the body (from the pivot), and a coefficient along each
+#: ground axis (a stiffness, or a damping: the matrices have the same form).
+LEG_SYMBOLS = dict(
+    position_x=sp.Symbol("p_x", real=True),
+    position_y=sp.Symbol("p_y", real=True),
+    position_z=sp.Symbol("p_z", real=True),
+    along_x=sp.Symbol("k_x", real=True),
+    along_y=sp.Symbol("k_y", real=True),
+    along_z=sp.Symbol("k_z", real=True),
+)
+#: A damper rod: its end on blade k (from the hinge, in the blade's axes: along the
+#: span, towards the leading edge, up), its other end (on blade k + j from that
+#: blade's hinge in its axes, or on the hub from the rotor centre in blade k's axes
+#: at rest), the hinge offsets of the two blades and their azimuth spacing 2 pi j / N.
+ROD_SYMBOLS = dict(
+    hinge_offset=BLADE_SYMBOLS["hinge_offset"],
+    end_hinge_offset=sp.Symbol("e_b", nonnegative=True),
+    spacing=sp.Symbol("delta", real=True),
+    start_x=sp.Symbol("a_x", real=True),
+    start_y=sp.Symbol("a_y", real=True),
+    start_z=sp.Symbol("a_z", real=True),
+    end_x=sp.Symbol("b_x", real=True),
+    end_y=sp.Symbol("b_y", real=True),
+    end_z=sp.Symbol("b_z", real=True),
+)
+
+
+def _body_rotation():
+    """The body's rotation and its six coordinates (as in :func:`derive_blade`)."""
+    x, y, z, theta, phi, chi = COORDS[:6]
+    return sp.Matrix([x, y, z]), _rot_z(chi) * _rot_x(phi) * _rot_y(-theta)
+
+
+def _body_dt(expr):
+    """d/dt of an expression in the body coordinates (nothing turns at Omega)."""
+    return sum(expr.diff(q) * qd for q, qd in zip(COORDS[:6], RATES[:6]))
+
+
+def _hessian_at_rest(expr, variables):
+    zero = {s: 0 for s in COORDS + RATES}
+    n = len(variables)
+    return sp.Matrix(
+        n, n, lambda i, j: sp.expand(sp.simplify(expr.diff(variables[i], variables[j]).subs(zero)))
+    )
+
+
+def derive_rigid_body() -> sp.Matrix:
+    """Mass matrix (6 x 6, BODY_DOFS order) of a rigid body, blades excluded.
+
+    T = 1/2 M |v_c|^2 + 1/2 w' J w, with v_c the velocity of the centre of
+    mass (at ``centre`` from the pivot, turning with the body) and w the
+    body's angular velocity in its own axes (R' dR/dt = [w x]); at rest its
+    Hessian in the rates is the (constant) mass matrix.
+    """
+    p = RIGID_SYMBOLS
+    translation, rotation = _body_rotation()
+    centre = translation + rotation * sp.Matrix([p["centre_x"], p["centre_y"], p["centre_z"]])
+    v_c = centre.applyfunc(_body_dt)
+    spin = rotation.T * rotation.applyfunc(_body_dt)
+    w = sp.Matrix([spin[2, 1], spin[0, 2], spin[1, 0]])
+    j = sp.Matrix(
+        [
+            [p["inertia_xx"], p["inertia_xy"], p["inertia_xz"]],
+            [p["inertia_xy"], p["inertia_yy"], p["inertia_yz"]],
+            [p["inertia_xz"], p["inertia_yz"], p["inertia_zz"]],
+        ]
+    )
+    kinetic = p["mass"] * v_c.dot(v_c) / 2 + (w.T * j * w)[0, 0] / 2
+    return _hessian_at_rest(kinetic, RATES[:6])
+
+
+def derive_leg() -> sp.Matrix:
+    """Stiffness (or damping) matrix (6 x 6, BODY_DOFS order) of one gear leg.
+
+    The leg's point on the body moves by u = (its position now) - (at rest);
+    springs along the ground axes store V = 1/2 sum_a k_a u_a^2 (dampers
+    dissipate 1/2 sum_a c_a u_a'^2, the same form in the rates). At rest the
+    Hessian of V is the leg's stiffness matrix: T' diag(k) T with T the linear
+    map from the body coordinates to u (translation plus rotation x position).
+    """
+    p = LEG_SYMBOLS
+    translation, rotation = _body_rotation()
+    position = sp.Matrix([p["position_x"], p["position_y"], p["position_z"]])
+    u = translation + rotation * position - position
+    potential = sum(k * u[a] ** 2 for a, k in enumerate((p["along_x"], p["along_y"], p["along_z"]))) / 2
+    return _hessian_at_rest(potential, COORDS[:6])
+
+
+def _blade_point(offset, lag, flap, point):
+    """A point fixed on a blade (``point`` from its hinge, hinge ``offset`` from the shaft,
+    in the blade's axes), in its hub axes."""
+    return offset * sp.Matrix([1, 0, 0]) + _rot_z(-lag) * _rot_y(-flap) * point
+
+
+def derive_rod(to_hub: bool) -> sp.Matrix:
+    """Gradient of a damper rod's length at rest with respect to the lag and flap of the
+    blades it joins: (lag_k, flap_k, lag_k+j, flap_k+j), or (lag_k, flap_k) ``to_hub``.
+
+    A damper of coefficient c along the rod dissipates 1/2 c l'^2, so it adds
+    c g g' to the damping matrix (and a rod spring k adds k g g' to the
+    stiffness), g this gradient. Both ends turn with the rotor and move with
+    the body together, so only the blades' own angles change the length.
+    """
+    p = ROD_SYMBOLS
+    zeta, beta, zeta2, beta2 = sp.symbols("zeta_a beta_a zeta_b beta_b", real=True)
+    start = _blade_point(p["hinge_offset"], zeta, beta, sp.Matrix([p["start_x"], p["start_y"], p["start_z"]]))
+    end_point = sp.Matrix([p["end_x"], p["end_y"], p["end_z"]])
+    angles = (zeta, beta) if to_hub else (zeta, beta, zeta2, beta2)
+    end = (
+        end_point
+        if to_hub
+        else _rot_z(p["spacing"]) * _blade_point(p["end_hinge_offset"], zeta2, beta2, end_point)
+    )
+    half_square = (start - end).dot(start - end) / 2
+    rest = {a: 0 for a in (zeta, beta, zeta2, beta2)}
+    length = sp.sqrt(2 * half_square.subs(rest))
+    return sp.Matrix([sp.simplify(half_square.diff(a).subs(rest)) for a in angles]) / length

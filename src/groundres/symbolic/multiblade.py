@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .derive import BODY_DOFS, BODY_SYMBOLS, LOCAL_DOFS, BladeEquations, azimuth, rotor_speed
+from .derive import BODY_DOFS, BODY_SYMBOLS, LOCAL_DOFS, TRANSLATIONS, BladeEquations, azimuth, rotor_speed
 
 _z, _w = sp.symbols("z w")
 
@@ -28,7 +28,8 @@ def _blade_laurent(group):
     c1, s1 = _laurent_trig(1)
     c2, s2 = _laurent_trig(2)
     weights = (1, c1, s1, c2, s2)
-    return sum((wgt * mat for wgt, mat in zip(weights, group)), sp.zeros(6, 6))
+    n = len(LOCAL_DOFS)
+    return sum((wgt * mat for wgt, mat in zip(weights, group)), sp.zeros(n, n))
 
 
 def _ddt(expr):
@@ -101,7 +102,7 @@ def multiblade_equations(equations: BladeEquations, n_blades: int, body_dofs, fl
     )
     b = BODY_SYMBOLS
     body = {
-        "mass": {d: b[("mass_" if d in ("x", "y") else "inertia_") + d] for d in BODY_DOFS},
+        "mass": {d: b[("mass_" if d in TRANSLATIONS else "inertia_") + d] for d in BODY_DOFS},
         "damping": {d: b[f"damping_{d}"] for d in BODY_DOFS},
         "stiffness": {d: b[f"stiffness_{d}"] for d in BODY_DOFS},
     }
