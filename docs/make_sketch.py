@@ -1,4 +1,5 @@
-"""Draw docs/images/conventions.png: axes and positive directions of groundres.
+"""Draw docs/images/conventions.png (axes and positive directions of groundres) and
+docs/images/rods-gear.png (damper rod geometry and a body on gear legs).
 
 Run: python3 docs/make_sketch.py
 """
@@ -10,6 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle, FancyArrowPatch, Rectangle
 
 OUT = Path(__file__).parent / "images" / "conventions.png"
+RODS_GEAR = Path(__file__).parent / "images" / "rods-gear.png"
 
 
 def arrow(ax, start, end, colour="k", **kw):
@@ -111,6 +113,105 @@ def rear_view(ax):
     ax.text(0.45, -0.48, "right", fontsize=8)
 
 
+def rods_view(ax):
+    ax.set_title("damper rods, top view (x forward up the page, y left)", fontsize=10)
+    to_screen = lambda x, y: np.array((-y, x))  # noqa: E731
+    e, n = 0.22, 4
+    ax.add_patch(Circle((0, 0), e, fill=False, color="0.4"))
+    for k in range(n):
+        psi = 2 * np.pi * k / n
+        c, s_ = np.cos(psi), np.sin(psi)
+        hinge = to_screen(e * c, e * s_)
+        tip = to_screen(1.35 * c, 1.35 * s_)
+        ax.plot([0, hinge[0]], [0, hinge[1]], color="k", lw=2)
+        ax.plot([hinge[0], tip[0]], [hinge[1], tip[1]], color="0.25", lw=3)
+        ax.text(*(to_screen(1.45 * c, 1.45 * s_) + (-0.05, -0.03)), f"blade {k + 1}", fontsize=8, ha="center")
+    # a blade-to-blade rod from blade 1 (leading-edge side) to blade 2 (trailing-edge side)
+    a, b = 0.45, 0.1
+
+    def on_blade(k, along, across):
+        psi = 2 * np.pi * k / n
+        x = (e + along) * np.cos(psi) - across * np.sin(psi)
+        y = (e + along) * np.sin(psi) + across * np.cos(psi)
+        return to_screen(x, y)
+
+    start, end = on_blade(0, a, b), on_blade(1, a, -b)
+    ax.plot([start[0], end[0]], [start[1], end[1]], color="tab:red", lw=2.5)
+    ax.plot(*start, "o", color="tab:red")
+    ax.plot(*end, "o", color="tab:red")
+    ax.text(
+        *(start + (-1.3, 0.3)), "blade-to-blade rod\n(blade = 1, to blade 2)", color="tab:red", fontsize=8
+    )
+    hinge = on_blade(0, 0, 0)
+    ax.annotate("", start, on_blade(0, 0, b), arrowprops=dict(arrowstyle="<->", color="tab:blue"))
+    ax.text(*(on_blade(0, a / 2, 0) + (0.06, 0.1)), "start_x (along the span)", color="tab:blue", fontsize=8)
+    ax.annotate("", on_blade(0, 0, b), hinge, arrowprops=dict(arrowstyle="<->", color="tab:blue"))
+    ax.text(*(hinge + (0.08, 0.02)), "start_y (to the leading edge)", color="tab:blue", fontsize=7)
+    ax.text(*(end + (-0.55, -0.35)), "end_x, end_y = (a, -b)\non blade 2, from its hinge", fontsize=7)
+    # a blade-to-hub rod on blade 3
+    s3, h3 = on_blade(2, 0.35, 0.12), to_screen(-0.05, -0.15)
+    ax.plot([s3[0], h3[0]], [s3[1], h3[1]], color="tab:green", lw=2.5)
+    ax.plot(*h3, "s", color="tab:green")
+    ax.text(
+        *(h3 + (0.1, -0.15)),
+        "blade-to-hub rod: end_* on the hub,\nfrom the centre, in blade 3's axes",
+        color="tab:green",
+        fontsize=7,
+    )
+    ax.text(
+        -1.65, -1.62, "rotor turns counter-clockwise: blade k + 1 is 2 pi / N ahead of blade k", fontsize=8
+    )
+
+
+def gear_view(ax):
+    ax.set_title("body on gear legs, side view from the right", fontsize=10)
+    ax.plot([-1.6, 1.6], [-1.0, -1.0], color="0.5", lw=1)
+    ax.add_patch(Rectangle((-1.1, -0.55), 2.2, 0.75, fill=False, color="0.4"))
+    pivot, centre, hub = np.array((0.0, -0.95)), np.array((0.1, -0.2)), np.array((0.0, 0.75))
+    ax.plot(*pivot, "ko")
+    ax.text(*(pivot + (0.06, 0.02)), "pivot (reference point)", fontsize=8)
+    ax.plot(*centre, "o", color="tab:purple")
+    ax.text(*(centre + (0.07, 0.0)), "centre of mass\n(centre_x, centre_z)", color="tab:purple", fontsize=8)
+    ax.plot([hub[0], hub[0]], [0.2, hub[1]], "k", lw=2)
+    ax.plot([-1.3, 1.3], [hub[1] + 0.02, hub[1] + 0.02], color="0.3", lw=2)
+    ax.plot(*hub, "k^")
+    ax.text(*(hub + (0.06, -0.2)), "hub (hub_x, hub_height)", fontsize=8)
+    for x in (-0.8, 0.8):
+        top = np.array((x, -0.55))
+        ax.plot([x, x], [-0.55, -0.75], "k", lw=1.5)
+        zig = np.array([[x, -0.75], [x - 0.06, -0.8], [x + 0.06, -0.86], [x - 0.06, -0.92], [x, -0.97]])
+        ax.plot(zig[:, 0], zig[:, 1], color="tab:orange", lw=1.5)
+        ax.plot(*top, "s", color="tab:orange")
+        hor = np.array(
+            [[x + 0.02, -0.62], [x + 0.08, -0.57], [x + 0.14, -0.67], [x + 0.2, -0.57], [x + 0.26, -0.62]]
+        )
+        ax.plot(hor[:, 0], hor[:, 1], color="tab:orange", lw=1.2)
+    ax.text(
+        0.85,
+        -0.5,
+        "[[body.gear]] leg: position_*\nfrom the pivot; springs and\ndampers along x, y, z to the ground",
+        color="tab:orange",
+        fontsize=7,
+    )
+    arrow(ax, (-1.55, 0.9), (-1.55, 1.3))
+    arrow(ax, (-1.55, 0.9), (-1.15, 0.9))
+    ax.text(-1.12, 0.86, "x (forward)", fontsize=9)
+    ax.text(-1.6, 1.33, "z", fontsize=9)
+
+
+def draw_rods_gear():
+    fig = Figure(figsize=(12, 5.2), layout="constrained")
+    axes = fig.subplots(1, 2)
+    for ax, draw in zip(axes, (rods_view, gear_view)):
+        draw(ax)
+        ax.set_aspect("equal")
+        ax.set_xlim(-1.7, 1.7)
+        ax.set_ylim(-1.6, 1.6)
+        ax.axis("off")
+    fig.suptitle("Damper rods ([[rotor.damper]]) and a rigid body on gear legs ([[body.gear]])", fontsize=11)
+    fig.savefig(RODS_GEAR, dpi=110)
+
+
 def main():
     fig = Figure(figsize=(13, 4.6), layout="constrained")
     axes = fig.subplots(1, 3, width_ratios=[1.3, 1, 1])
@@ -125,6 +226,7 @@ def main():
     )
     OUT.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(OUT, dpi=110)
+    draw_rods_gear()
 
 
 if __name__ == "__main__":

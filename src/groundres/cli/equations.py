@@ -58,3 +58,35 @@ def command(case, latex, form):
     for title, mat in zip(("mass", "damping", "stiffness"), mats):
         click.echo(f"\n{title} matrix:")
         click.echo(show(mat))
+    _numeric_parts(the_case, show)
+
+
+def _numeric_parts(case, show) -> None:
+    """What the symbolic matrices above leave out, in numbers: a rigid body's own matrices
+    (in place of the diagonal M_, J_, K_, C_) and the damper rods' (added on the blades)."""
+    import numpy as np
+    import sympy as sp
+
+    from ..system import System
+
+    def matrix(values):
+        return show(sp.Matrix(np.round(values, 10).tolist()).applyfunc(lambda v: sp.Float(v, 6)))
+
+    if case.body.form == "rigid":
+        click.echo(
+            f"\n# rigid body on gear legs: its own matrices on [{', '.join(case.body.dofs)}] replace the "
+            "diagonal body symbols M_, J_, K_, C_ above (SI)"
+        )
+        for title, mat in zip(("mass", "damping", "stiffness"), case.body.matrices()):
+            click.echo(f"\nbody {title} matrix:")
+            click.echo(matrix(mat))
+    if case.rotor.dampers:
+        system = System(case.rotor, case.body)
+        names = [f"{c.kind}_{c.name}" for c in system.coordinates[system.n_body :]]
+        click.echo(
+            f"\n# damper rods: c g g' and k g g' added in blade coordinates [{', '.join(names)}] "
+            "(g: each rod's length gradient; SI), before any multiblade transform"
+        )
+        for title, mat in zip(("damping", "stiffness"), system.rod_matrices):
+            click.echo(f"\nrod {title} matrix:")
+            click.echo(matrix(mat[system.n_body :, system.n_body :]))

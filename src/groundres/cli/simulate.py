@@ -21,7 +21,14 @@ from .common import (
 @click.command("simulate")
 @click.argument("case", required=False)
 @click.option("--speed", type=float, required=True, help="Rotor speed, in the case's sweep unit.")
-@click.option("--time", "duration", type=float, default=None, help="Duration [s] [default: 40 revolutions].")
+@click.option(
+    "--time",
+    "duration",
+    type=float,
+    default=None,
+    help="Duration [s] [default: 40 revolutions, or longer (up to 400) until the least stable root "
+    "outgrows the next one by e^8].",
+)
 @click.option(
     "--initial",
     multiple=True,
@@ -59,12 +66,17 @@ def command(case, speed, duration, initial, out):
         q0, v0 = sim_module.initial_state(system, values or _default_initial(the_case))
     except KeyError as err:
         fail_user(f"--initial {err.args[0]}")
-    duration = _checked_duration(system, the_case.sweep.unit, speed, w, duration)
+    given = duration
+    duration = _checked_duration(system, the_case.sweep.unit, speed, w, given)
+    method = choose_method(the_case)
+    roots = np.asarray(root_solver(the_case, method).roots(w)).ravel()
+    predicted = float(roots.real.max())
+    if given is None:  # (longer where the least stable root stands out slowly)
+        duration = _checked_duration(system, the_case.sweep.unit, speed, w, None, _settling(roots))
     out_dir = output_dir(case, out, "simulate")
     check_out(out_dir)
     labels = {
         "integrate": f"Simulating {duration:.4g} s at {speed:g} {the_case.sweep.unit} [s simulated]",
-        "roots": "Largest real part at that speed",
         "write": "Writing results",
     }
     with Steps(console, labels) as steps:
@@ -74,9 +86,6 @@ def command(case, speed, duration, initial, out):
         )
         steps("integrate", duration, duration)
         growth = sim.growth_rate()
-        method = choose_method(the_case)
-        with steps.step("roots"):
-            predicted = float(root_solver(the_case, method).roots(w).real.max())
         with steps.step("write"), folders.output_folder(out_dir) as folder:
             fig = time_history(
                 sim,
@@ -128,8 +137,27 @@ def _default_initial(case) -> dict:
     return {d: 0.01 for d in case.body.dofs} | {"lag1": 0.01}
 
 
-def _checked_duration(system, unit: str, speed: float, w: float, duration: float | None) -> float:
-    """--time (None: 40 revolutions) once it is long enough to measure growth and short enough to run.
+#: Default duration: at least this many revolutions, at most MOST_REVOLUTIONS.
+LEAST_REVOLUTIONS, MOST_REVOLUTIONS = 40, 400
+#: e-folds by which the least stable root outgrows the next over the second half of a default run.
+SETTLE = 8.0
+
+
+def _settling(roots) -> float:
+    """Time [s] over which the least stable root outgrows the next distinct one by e^SETTLE
+    (the growth rate is measured over the run's second half: twice that); inf if they tie."""
+    import numpy as np
+
+    real = np.sort(np.asarray(roots).real)[::-1]
+    scale = max(np.abs(real).max(), 1e-300)
+    below = real[real < real[0] - 1e-9 * scale]
+    return 2 * SETTLE / (real[0] - below[0]) if len(below) else float("inf")
+
+
+def _checked_duration(system, unit: str, speed: float, w: float, duration: float | None, settle=0.0) -> float:
+    """--time (None: LEAST_REVOLUTIONS, or up to MOST_REVOLUTIONS where the least stable root takes
+    ``settle`` [s] to stand out, :func:`_settling`) once it is long enough to measure growth and
+    short enough to run.
 
     The integration steps are estimated before integrating (:func:`groundres.simulate.estimate_steps`)
     and a run over :data:`groundres.simulate.MAX_STEPS` is refused, saying what to change.
@@ -149,7 +177,8 @@ def _checked_duration(system, unit: str, speed: float, w: float, duration: float
             f"({shortest:.4g} s {at_speed}), over whose second half the growth rate is measured"
         )
     default = duration is None
-    duration = 40 * revolution if default else duration
+    if default:
+        duration = min(max(LEAST_REVOLUTIONS * revolution, settle), MOST_REVOLUTIONS * revolution)
     rate = sim_module.fastest_rate(system, w)
     if not math.isfinite(rate):
         fail_user(
@@ -159,6 +188,10 @@ def _checked_duration(system, unit: str, speed: float, w: float, duration: float
         )
     per_second = rate / (2 * math.pi) * sim_module.STEPS_PER_PERIOD
     steps = sim_module.estimate_steps(system, w, duration)
+    if default and steps > sim_module.MAX_STEPS and duration > LEAST_REVOLUTIONS * revolution:
+        # (a longer default than 40 revolutions only as far as the step limit allows)
+        duration = max(LEAST_REVOLUTIONS * revolution, duration * sim_module.MAX_STEPS / steps)
+        steps = sim_module.estimate_steps(system, w, duration)
     if steps > sim_module.MAX_STEPS:
         longest = sim_module.MAX_STEPS / per_second
         if longest >= shortest:
@@ -170,7 +203,8 @@ def _checked_duration(system, unit: str, speed: float, w: float, duration: float
                 "choose a higher --speed"
             )
         fail_user(
-            f"--time = {duration:.4g} s{' (the default, 40 revolutions)' if default else ''} {at_speed}: "
+            f"--time = {duration:.4g} s"
+            f"{f' (the default, {duration / revolution:.0f} revolutions)' if default else ''} {at_speed}: "
             f"the simulation would take about {steps:.2g} integration steps (fastest motion "
             f"{rate:.4g} rad/s, about {sim_module.STEPS_PER_PERIOD} steps a period), over the limit "
             f"of {sim_module.MAX_STEPS}; {advice}"
