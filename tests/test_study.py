@@ -348,3 +348,28 @@ def test_keys_of_repeated_tables_vary_the_entry_they_name():
         make_grid(skids, {"body.gear[5].stiffness_y": "4e4:6e4:2"})
     with pytest.raises(StudyError, match="no number key"):
         make_grid(skids, {"body.gear.stiffness_y": "4e4:6e4:2"})
+
+
+def test_single_failures_of_damper_rods_equal_the_case_with_that_rod_failed():
+    """--failures single on a rotor with inter-blade rods: one entry per rod, each the case with
+    that rod overridden without damping (the shipped one-failed case for rod 1)."""
+    import tomllib
+
+    from groundres import load_case
+
+    def short(name):
+        text = (
+            load_case(name)
+            .text.replace("points = 400", "points = 24")
+            .replace("start = 30.0", "start = 180.0")
+        )
+        return parse_case(tomllib.loads(text), name, text)
+
+    ds = study(short("hammond-interblade"), {"rotor.damper[1].damping": [20086.42]}, failures="single")
+    assert list(ds.failure.values) == ["none"] + [f"blade-to-blade rod {k}" for k in (1, 2, 3, 4)]
+    stability = analyze(short("hammond-interblade-one-failed"), lag_damping_search=False).stability
+    for k in (1, 3):  # (rods alike: every single failure is rod 1's turned, computed once)
+        point = ds.sel(failure=f"blade-to-blade rod {k}").isel({"rotor.damper[1].damping": 0})
+        assert float(point.max_real_part) == pytest.approx(stability.max_real_part[0], rel=1e-9, abs=1e-9)
+        assert bool(point.stable) is False
+    assert bool(ds.sel(failure="none").stable.values.all())

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._version import __version__
+from .body import TRANSLATIONS
 from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 from .summary import open_below_note
 
@@ -27,17 +28,11 @@ BLADE_UNITS = {
     "flap_stiffness": "N m/rad",
     "flap_damping": "N m s/rad",
 }
-_BODY_UNITS = {
-    "mass": "kg",
-    "inertia": "kg m2",
-    "stiffness_x": "N/m",
-    "stiffness_y": "N/m",
-    "stiffness_pitch": "N m/rad",
-    "stiffness_roll": "N m/rad",
-    "damping_x": "N s/m",
-    "damping_y": "N s/m",
-    "damping_pitch": "N m s/rad",
-    "damping_roll": "N m s/rad",
+_BODY_UNITS = {  # (translation, rotation)
+    "mass": ("kg", "kg"),
+    "inertia": ("kg m2", "kg m2"),
+    "stiffness": ("N/m", "N m/rad"),
+    "damping": ("N s/m", "N m s/rad"),
 }
 
 
@@ -69,13 +64,27 @@ def case_attributes(case) -> dict:
             continue
         put(f"rotor_{key}", np.array([getattr(b, key) for b in rotor.blades], float), units)
     put("body_dofs", " ".join(body.dofs))
-    for dof in body.dofs:
-        key = body.inertia_key(dof)
-        put(f"body_{key}", float(getattr(body, key)), _BODY_UNITS[key.split("_")[0]])
-        for kind in ("stiffness", "damping"):
-            put(f"body_{kind}_{dof}", float(getattr(body, f"{kind}_{dof}")), _BODY_UNITS[f"{kind}_{dof}"])
-    if {"pitch", "roll"} & set(body.dofs):
-        put("body_hub_height", float(body.hub_height), "m")
+    put("body_form", body.form)
+    if body.form == "modal":
+        for dof in body.dofs:
+            key = body.inertia_key(dof)
+            turns = dof not in TRANSLATIONS
+            put(f"body_{key}", float(getattr(body, key)), _BODY_UNITS[key.split("_")[0]][turns])
+            for kind in ("stiffness", "damping"):
+                put(f"body_{kind}_{dof}", float(getattr(body, f"{kind}_{dof}")), _BODY_UNITS[kind][turns])
+    else:
+        put("body_mass", float(body.mass), "kg")
+        put("body_inertia_tensor", body.inertia_tensor().ravel(), "kg m2")
+        put("body_centre_of_mass", np.array([body.centre_x, body.centre_y, body.centre_z]), "m")
+        for kind, units in (("position", "m"), ("stiffness", "N/m"), ("damping", "N s/m")):
+            values = [[getattr(leg, f"{kind}_{a}") for a in "xyz"] for leg in body.gear]
+            put(f"body_gear_{kind}", np.array(values, float).ravel(), units)
+    put("body_hub", np.array([body.hub_x, body.hub_y, body.hub_height], float), "m")
+    if rotor.dampers:
+        put("rotor_damper_kind", " ".join(d.kind for d in rotor.dampers))
+        put("rotor_damper_blade", np.array([d.blade for d in rotor.dampers], np.int32))
+        put("rotor_damper_damping", np.array([d.damping for d in rotor.dampers], float), "N s/m")
+        put("rotor_damper_stiffness", np.array([d.stiffness for d in rotor.dampers], float), "N/m")
     put("sweep_start", float(sweep.start), "rad/s")
     put("sweep_stop", float(sweep.stop), "rad/s")
     put("sweep_points", np.int32(sweep.points))

@@ -128,6 +128,8 @@ class SweepResult:
             n_blades=len(blades),
             cg_arm=float(np.mean([b.blade_static_moment / b.blade_mass for b in blades])),
             hub_height=self.case.body.hub_height,
+            hub_x=self.case.body.hub_x,
+            hub_y=self.case.body.hub_y,
             rotating_frequency=float(m.frequency_rotating[i, j]),
         )
 

@@ -65,7 +65,7 @@ class Phasor:
     @property
     def unit(self) -> str:
         """Unit of the displacement: "m" for body translations, "rad" for angles."""
-        return "m" if self.kind == "body" and self.name in ("x", "y", "x_r", "y_r") else "rad"
+        return "m" if self.kind == "body" and self.name in ("x", "y", "z", "x_r", "y_r") else "rad"
 
     def as_dict(self) -> dict:
         """The phasor as numbers (phases [deg]; NaN where the displacement is zero);
@@ -127,6 +127,8 @@ class ModeShape:
         centre of mass about its hinge.
     hub_height : float
         [m].
+    hub_x, hub_y : float
+        The hub centre's other coordinates from the pivot [m].
     rotating_frequency : float, optional
         The mode's frequency seen from rotating axes [rad/s] as identified
         (:mod:`groundres.identify`): the rotating-frame phasors are taken at
@@ -145,6 +147,21 @@ class ModeShape:
     cg_arm: float
     hub_height: float
     rotating_frequency: float | None = None
+    hub_x: float = 0.0
+    hub_y: float = 0.0
+
+    def _hub(self, sym: dict, zero=0):
+        """The hub centre's displacement in x and y: the pivot's translation plus the body's
+        rotation (roll, -pitch, yaw) times the hub's position from the pivot."""
+        h, pitch, roll, yaw = (
+            self.hub_height,
+            sym.get("pitch", zero),
+            sym.get("roll", zero),
+            sym.get("yaw", zero),
+        )
+        return sym.get("x", zero) - h * pitch - self.hub_y * yaw, sym.get(
+            "y", zero
+        ) - h * roll + self.hub_x * yaw
 
     @property
     def unstable(self) -> bool:
@@ -264,9 +281,7 @@ class ModeShape:
             if f"{kind}_d" in sym:
                 entry["differential"] = _polar(sym[f"{kind}_d"])
             out[kind] = entry
-        h = self.hub_height
-        x = sym.get("x", 0) - h * sym.get("pitch", 0)
-        y = sym.get("y", 0) - h * sym.get("roll", 0)
+        x, y = self._hub(sym)
         if "lag_1c" in sym:
             x = x + self.cg_arm / 2 * sym["lag_1s"]
             y = y - self.cg_arm / 2 * sym["lag_1c"]
@@ -300,11 +315,7 @@ class ModeShape:
         p = (p * np.exp(self.eigenvalue * t)[:, None]).real  # (n_t, n)
         sym = {c.symbol: p[:, i] for i, c in enumerate(self.coordinates)}
         zero = np.zeros_like(t)
-        h = self.hub_height
-        hub = np.stack(
-            [sym.get("x", zero) - h * sym.get("pitch", zero), sym.get("y", zero) - h * sym.get("roll", zero)],
-            1,
-        )
+        hub = np.stack(self._hub(sym, zero), 1)
         basis, _, _ = mbc.multiblade_basis(self.n_blades, w * t)
         out = {"hub": hub, "azimuth": mbc.blade_azimuths(self.n_blades, w * t)}
         for kind in ("lag", "flap"):

@@ -54,7 +54,11 @@ def failure_groups(ds, variable: str = "max_real_part") -> list[tuple[str, objec
             out.append((failure_name(names[0]), part))
         else:
             blades = ", ".join(n.split()[-1] for n in names)
-            out.append((f"blades {blades}: one lag damper failed (each the same rotor turned)", part))
+            if names[0].startswith("blade "):
+                out.append((f"blades {blades}: one lag damper failed (each the same rotor turned)", part))
+            else:
+                kind = names[0].rpartition(" rod ")[0]
+                out.append((f"{kind} rods {blades}: one failed (each the same rotor turned)", part))
     return out
 
 
@@ -160,12 +164,15 @@ def _panels(ds, keys, failures):
 
 def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
     x, y = np.asarray(part[xkey], float), np.asarray(part[ykey], float)
+    stable = np.asarray(part.stable.transpose(ykey, xkey), bool)
+    # (a stable point's largest real part above zero is a neutral root's round-off, within the
+    # growth threshold: drawn as zero, white, never as growth)
     z = np.asarray(part.max_real_part.transpose(ykey, xkey), float)
+    z = np.where(stable & (z > 0), 0.0, z)
     levels = np.linspace(-scale, scale, 21)
     image = None
     if len(x) > 1 and len(y) > 1:
         image = ax.contourf(x, y, np.clip(z, -scale, scale), levels=levels, cmap="RdBu_r", extend="both")
-        stable = np.asarray(part.stable.transpose(ykey, xkey), bool)
         if 0 < stable.mean() < 1:  # (the largest real part signed by the verdict: its zero lies between
             # the grid's stable and unstable points, where the real part crosses the threshold)
             signed = np.where(stable, -np.abs(z), np.abs(z))

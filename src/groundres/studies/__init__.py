@@ -86,7 +86,8 @@ def study(case, vary: dict, failures: str | None = None, client=None, out=None, 
         "body.damping_x": [2e4, 5e4]}``); one dimension each, in order.
     failures : "single" or None
         Add a dimension ``failure``: "none" and one entry per blade whose lag
-        damper is put out of action.
+        damper is put out of action ("blade k"), and per working damper rod
+        ("<kind> rod k": the rod starting at blade k, without damping).
     client : dask.distributed.Client, optional
         Compute on that cluster; None: in this process.
     out : path, optional

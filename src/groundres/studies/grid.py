@@ -237,9 +237,14 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
             or f"rotor.blade[{i + 1}].lag_damping" in keys
             or ("rotor.lag_damping" in keys and "lag_damping" not in overrides.get(i + 1, {}))
         ]
-        if not working:
-            raise StudyError("--failures single: no blade of the study has a working lag damper to fail")
-        names = (NO_FAILURE, *(f"blade {k}" for k in working))
+        # (damper rods: each working one fails in turn, besides the blades' own dampers)
+        working_rods = [d for d in case.rotor.dampers if d.damping > 0] or list(case.rotor.dampers)
+        rods = [f"{d.kind} rod {d.blade}" for d in working_rods]
+        if not working and not rods:
+            raise StudyError(
+                "--failures single: no blade of the study has a working lag damper to fail (nor a damper rod)"
+            )
+        names = (NO_FAILURE, *(f"blade {k}" for k in working), *rods)
     grid = Grid(keys, values, names)
     if grid.size > MAX_POINTS:
         raise StudyError(f"--vary: the grid has {grid.size} points, more than {MAX_POINTS}")
@@ -267,8 +272,16 @@ def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str
         else:
             table, _, name = key.rpartition(".")
             data.setdefault(table, {})[name] = number
-    if failure != NO_FAILURE:
+    if failure.startswith("blade "):
         _blade_table(data, int(failure.split()[-1]))["lag_damping"] = 0.0
+    elif failure != NO_FAILURE:  # (a damper rod: "<kind> rod <k>", overridden with no damping)
+        kind, _, blade = failure.rpartition(" rod ")
+        tables = data["rotor"].setdefault("damper", [])
+        entry = next((t for t in tables if t.get("kind") == kind and t.get("blade") == int(blade)), None)
+        if entry is None:
+            tables.append({"kind": kind, "blade": int(blade), "damping": 0.0})
+        else:
+            entry["damping"] = 0.0
     return parse_case(data, source)
 
 
