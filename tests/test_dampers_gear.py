@@ -364,3 +364,44 @@ def test_a_time_simulation_grows_at_the_largest_floquet_exponent_with_a_failed_r
     predicted = float(text.split("largest real part (floquet) ")[1].split()[0])
     assert predicted > 0.1 and measured == pytest.approx(predicted, rel=0.01)
     assert json.loads((out / "provenance.json").read_text())["duration"]["value"] > 40 * 60 / 256
+
+
+def test_rods_without_damping_leave_the_search_on_the_blade_dampers():
+    """Stiffness-only rods on a rotor with blade dampers: the exact search sizes the blade dampers."""
+    text = HAMMOND_TOML.replace(
+        "[body]",
+        ROD.replace("2e4", "0.0")
+        + "stiffness = 1000.0\nstart_x = 0.3\nstart_y = 0.1\nend_x = 0.3\nend_y = -0.1\n\n[body]",
+    )
+    result = analyze(case_from(text))
+    summary = result.summary()["lag_damping"]
+    assert summary["exact_minimum_searched"] == "blade lag dampers"
+    assert summary["exact_minimum_unit"] == "N m s/rad"
+    assert 1000.0 < summary["exact_minimum"] < 4067.5  # (hub dampers: 2982.5 without the rods' springs)
+
+
+def test_single_failures_of_different_kinds_are_not_shared():
+    """Blade dampers and rods on one rotor: a blade's failure and a rod's are different rotors."""
+    from groundres.studies import study
+
+    text = load_case("hammond-interblade").text.replace("lag_damping = 0.0 ", "lag_damping = 3000.0 ")
+    text = text.replace("points = 400", "points = 12").replace("start = 30.0", "start = 200.0")
+    assert "lag_damping = 3000.0" in text
+    ds = study(case_from(text), {"body.damping_x": [51078.7]}, failures="single")
+    blade = float(ds.max_real_part.sel(failure="blade 1")[0])
+    rod = float(ds.max_real_part.sel(failure="blade-to-blade rod 1")[0])
+    assert blade != rod
+    assert float(ds.max_real_part.sel(failure="blade 3")[0]) == blade  # (alike: the same rotor turned)
+
+
+def test_rotating_phasors_keep_heave_and_yaw_and_heave_is_in_metres():
+    from groundres.dataset import coordinate_unit
+
+    text = HAMMOND_TOML.replace('dofs = ["x", "y"]', 'dofs = ["x", "y", "z", "yaw"]').replace(
+        "[body]", "[body]\nmass_z = 5000.0\nstiffness_z = 1e6\ninertia_yaw = 9000.0\nstiffness_yaw = 2e6"
+    )
+    result = analyze(case_from(text), speeds=[20.0, 21.0], lag_damping_search=False)
+    units = {c.name: coordinate_unit(c) for c in result.coordinates if c.kind == "body"}
+    assert units == {"x": "m", "y": "m", "z": "m", "yaw": "rad"}
+    rotating = {p.name for p in result.mode("body yaw", 20.0).phasors("rotating")}
+    assert {"z", "yaw", "x_r", "y_r"} <= rotating

@@ -84,7 +84,8 @@ class _Solver:
         self.iso = [p for p in _ISOTROPIC_PAIRS if system.body.pair_isotropic(*p)]
 
     def with_lag_damping(self, scale_to: float, in_unit: bool = False):
-        """The same case with the lag dampers that work set to ``scale_to`` [N m s/rad]
+        """The same case with the working dampers a search sizes set to ``scale_to`` (blade
+        lag dampers [N m s/rad], or damper rods [N s/m]: :attr:`groundres.system.System.searched`)
         (in the equations' mass unit if ``in_unit``, :func:`groundres.limits.mass_unit`).
 
         Blades without a lag damper keep none (a failed damper stays failed),

@@ -289,7 +289,7 @@ class Body:
         """True when the support looks the same in every direction of the rotor plane.
 
         x and y both present or both absent, likewise pitch and roll; the hub
-        on the vertical through the pivot; and the body's matrices unchanged
+        on the vertical through the pivot where the body turns; and the body's matrices unchanged
         when the pairs are turned about the vertical (each pair's members
         alike, and any coupling between pairs or with z and yaw turning with
         them).
@@ -297,12 +297,17 @@ class Body:
         for a, b in ROTATING_PAIRS:
             if (a in self.dofs) != (b in self.dofs):
                 return False
-        if self.hub_x or self.hub_y:
+        if self._hub_off_axis():
             return False
         turn = self.turn(1.0)
         mats = self.matrices()
         scale = max(np.abs(mats).max(), 1e-300)
         return bool(np.abs(turn.T @ mats @ turn - mats).max() <= 1e-12 * scale)
+
+    def _hub_off_axis(self) -> bool:
+        """The hub away from the vertical through the pivot, where the body turns: then the
+        body's rotations move it differently in different directions."""
+        return bool(self.hub_x or self.hub_y) and bool({"pitch", "roll", "yaw"} & set(self.dofs))
 
     def turn(self, angle: float) -> np.ndarray:
         """The body coordinates turned about the vertical by ``angle`` [rad]: (n_body, n_body)."""
@@ -318,7 +323,7 @@ class Body:
     def pair_isotropic(self, a: str, b: str) -> bool:
         """Whether the pair (a, b) is present and looks the same in every direction (modal form:
         equal inertia, stiffness and damping; rigid form: the whole body isotropic)."""
-        if a not in self.dofs or b not in self.dofs:
+        if a not in self.dofs or b not in self.dofs or self._hub_off_axis():
             return False
         if self.form == "rigid":
             return self.isotropic

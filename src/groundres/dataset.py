@@ -38,7 +38,7 @@ _BODY_UNITS = {  # (translation, rotation)
 
 def coordinate_unit(coordinate) -> str:
     """Unit of a nonrotating coordinate: m for body translations, rad for angles."""
-    return "m" if coordinate.kind == "body" and coordinate.name in ("x", "y") else "rad"
+    return "m" if coordinate.kind == "body" and coordinate.name in TRANSLATIONS else "rad"
 
 
 def case_attributes(case) -> dict:
@@ -80,11 +80,16 @@ def case_attributes(case) -> dict:
             values = [[getattr(leg, f"{kind}_{a}") for a in "xyz"] for leg in body.gear]
             put(f"body_gear_{kind}", np.array(values, float).ravel(), units)
     put("body_hub", np.array([body.hub_x, body.hub_y, body.hub_height], float), "m")
+    if {"pitch", "roll"} & set(body.dofs):
+        put("body_hub_height", float(body.hub_height), "m")
     if rotor.dampers:
         put("rotor_damper_kind", " ".join(d.kind for d in rotor.dampers))
         put("rotor_damper_blade", np.array([d.blade for d in rotor.dampers], np.int32))
         put("rotor_damper_damping", np.array([d.damping for d in rotor.dampers], float), "N s/m")
         put("rotor_damper_stiffness", np.array([d.stiffness for d in rotor.dampers], float), "N/m")
+        for end in ("start", "end"):
+            values = [[getattr(d, f"{end}_{a}") for a in "xyz"] for d in rotor.dampers]
+            put(f"rotor_damper_{end}", np.array(values, float).ravel(), "m")
     put("sweep_start", float(sweep.start), "rad/s")
     put("sweep_stop", float(sweep.stop), "rad/s")
     put("sweep_points", np.int32(sweep.points))

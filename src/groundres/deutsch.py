@@ -75,7 +75,8 @@ class DeutschEntry:
         the criterion.
     limitation : str or None
         Why the criterion does not apply as stated, None where it does. It
-        assumes N >= 3 identical blades: "blades differ" (the rotor is smeared
+        assumes N >= 3 identical blades: "blades differ", or "damper rods differ"
+        (blades alike, but a rod unlike the others: a failed one) (the rotor is smeared
         to its average blade, which can miss the instability a failed damper
         causes) or "two blades" (a two-bladed rotor has no cyclic lag pair
         and periodic coefficients in every frame).
@@ -109,6 +110,11 @@ class DeutschEntry:
     @property
     def reason(self) -> str:
         """Why the verdict is what it is, in words."""
+        if self.limitation == "damper rods differ":
+            return (
+                "does not apply: damper rods differ (the criterion assumes every blade alike with its "
+                "rods; the required value is for the rotor's average, which can miss a failed rod)"
+            )
         if self.limitation == "blades differ":
             return (
                 "does not apply: blades differ (the criterion assumes identical blades; the "
@@ -133,30 +139,36 @@ def installed_lag_damping(rotor: Rotor) -> tuple[float, int]:
     A blade without a damper (0) on a rotor where other blades have one counts
     as a failed damper, not as the installed value; when no blade has a damper
     the installed value is 0 and none has failed. Damper rods add their cyclic
-    (order 1) damping per blade, averaged over the rotor (:func:`rod_lever`).
+    (order 1) damping per blade, averaged over the rotor (:func:`rod_lever`); a rod
+    without damping among rods that have some counts as failed too.
     """
     values = [b.lag_damping for b in rotor.blades]
     working = [v for v in values if v > 0]
     rods = _rod_cyclic(rotor, "damping")
+    damped = [d.damping > 0 for d in rotor.dampers]
+    failed_rods = len(damped) - sum(damped) if any(damped) else 0
     if not working:
-        return rods, 0
-    return float(min(working)) + rods, len(values) - len(working)
+        return rods, failed_rods
+    return float(min(working)) + rods, len(values) - len(working) + failed_rods
 
 
 def _rod_cyclic(rotor: Rotor, what: str, order: int = 1) -> float:
     """The cyclic lag damping (``what`` = "damping") or stiffness ("stiffness") per blade of
     the rods, or the damping per unit coefficient of the working rods ("lever"), averaged
     over the rotor [N m s/rad, N m/rad, m^2/rad]."""
+    from .system import working
+
     n = rotor.n_blades
     offsets = [b.hinge_offset for b in rotor.blades]
     total = 0.0
-    for d in rotor.dampers:
+    works = working([d.damping for d in rotor.dampers])
+    for d, w in zip(rotor.dampers, works):
         g = d.gradient(offsets, n)[::2]  # (the lag parts)
         if d.span == 0:
             lever = g[0] ** 2
         else:
             lever = g[0] ** 2 + g[1] ** 2 + 2 * g[0] * g[1] * math.cos(2 * math.pi * order * d.span / n)
-        coefficient = getattr(d, what) if what != "lever" else (1.0 if d.damping > 0 else 0.0)
+        coefficient = getattr(d, what) if what != "lever" else float(w)
         total += coefficient * lever
     return float(total / n)
 
@@ -207,7 +219,9 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
     s = blade.blade_static_moment
     installed, failed = installed_lag_damping(rotor)
-    limitation = None if rotor.identical else "blades differ"
+    limitation = (
+        None if rotor.identical else "blades differ" if not rotor.blades_alike else "damper rods differ"
+    )
     if n < 3:
         limitation = "two blades"
     lever = rod_lever(rotor)

@@ -159,7 +159,7 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
     """Rates [1/s] the parameters of a case set on their own (dampers, springs, speed);
     the stop speed [rad/s] is named in ``speed_unit`` (name, rad/s per unit)."""
     out = []
-    many = not rotor.identical
+    many = not rotor.blades_alike
     for k, b in enumerate(rotor.blades if many else rotor.blades[:1]):
         where = f" (blade {k + 1})" if many else ""
         i = b.blade_inertia

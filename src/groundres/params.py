@@ -154,7 +154,7 @@ class Rotor:
 
     @property
     def blades_alike(self) -> bool:
-        """True when every blade has the same properties (dampers aside)."""
+        """True when every blade has the same properties (damper rods aside)."""
         return all(b == self.blades[0] for b in self.blades[1:])
 
     @property

@@ -242,6 +242,11 @@ class ModeShape:
                         out.append(p[:, index[d]])
                         names.append((d, "body"))
                         weights.append(self.weights[index[d]])
+        for d in ("z", "yaw"):  # (turned about the shaft they stay as they are)
+            if d in index:
+                out.append(p[:, index[d]])
+                names.append((d, "body"))
+                weights.append(self.weights[index[d]])
         basis, _, _ = mbc.multiblade_basis(n, psi)  # (samples, N blades, N coords)
         for kind in ("lag", "flap"):
             cols = [i for i, c in enumerate(coords) if c.kind == kind]

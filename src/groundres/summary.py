@@ -14,6 +14,7 @@ import numpy as np
 from ._version import __version__
 from .deutsch import DeutschEntry, installed_lag_damping
 from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
+from .system import searched
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -77,7 +78,7 @@ def no_exact_reason(result, speed) -> str:
             f"the sweep is unstable below {speed(value)} (half the lowest body frequency), where the "
             "regressive lag mode meets no body mode: lag damping does not decide stability there"
         )
-    unit = "N s/m" if result.case.rotor.dampers else "N m s/rad"
+    unit = "N s/m" if searched(result.case.rotor) == "rods" else "N m s/rad"
     upto = f" {value:.4g} {unit}" if value is not None else " the largest tried"
     speeds = result.rotor_speed
     undamped = [
@@ -130,6 +131,7 @@ def summary(result) -> dict:
             "flap": case.rotor.flap,
             "body_dofs": list(case.body.dofs),
             "identical_blades": case.rotor.identical,
+            "blades_alike": case.rotor.blades_alike,
             "isotropic_body": case.body.isotropic,
         },
         "sweep": {
@@ -164,8 +166,9 @@ def summary(result) -> dict:
             for d in rods
         ]
         lag["rods_unit"] = {"damping": "N s/m", "stiffness": "N/m"}
-    lag["exact_minimum_searched"] = "damper rods" if rods else "blade lag dampers"
-    lag["exact_minimum_unit"] = "N s/m" if rods else "N m s/rad"
+    on_rods = searched(case.rotor) == "rods"
+    lag["exact_minimum_searched"] = "damper rods" if on_rods else "blade lag dampers"
+    lag["exact_minimum_unit"] = "N s/m" if on_rods else "N m s/rad"
     put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
     lag["exact_minimum_note"] = (
         "smallest damping, set on every working damper of the kind searched (the damper rods' "

@@ -21,6 +21,20 @@ from .symbolic.codegen import BLADE_ARGUMENTS, blade_function
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
 
 
+def searched(rotor: Rotor) -> str:
+    """What a lag damping search sizes on ``rotor`` (:attr:`System.searched`)."""
+    rods = rotor.dampers
+    if rods and (any(d.damping > 0 for d in rods) or not any(b.lag_damping > 0 for b in rotor.blades)):
+        return "rods"
+    return "blades"
+
+
+def working(values) -> list:
+    """Which dampers work: those with damping, or all of them where none has."""
+    out = [v > 0 for v in values]
+    return out if any(out) else [True] * len(out)
+
+
 class System:
     """The linear equations of one rotor on one body.
 
@@ -53,9 +67,7 @@ class System:
         self.grid_cache = {}
         #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
         #: with damping, or all of them where none has.
-        self.working = [v > 0 for v in self.damper_values(every=True)]
-        if not any(self.working):
-            self.working = [True] * len(self.working)
+        self.working = working(self.damper_values(every=True))
         #: Damping matrices D_j (d, n, n), constant in azimuth, along which a split
         #: system takes dampings c_j set per speed, C = C_0 + sum_j c_j D_j
         #: (:meth:`split_damping`); none (d = 0) in a plain system.
@@ -145,9 +157,9 @@ class System:
     @property
     def searched(self) -> str:
         """What a lag damping search sizes: "rods" (the damper rods' damping along the rod
-        [N s/m]) where the rotor has damper rods, else "blades" (each blade's rotational lag
-        damper [N m s/rad])."""
-        return "rods" if self.rotor.dampers else "blades"
+        [N s/m]) where some rod has damping, or the rotor has rods and no blade damper;
+        else "blades" (each blade's rotational lag damper [N m s/rad])."""
+        return searched(self.rotor)
 
     def damper_values(self, every: bool = False) -> list:
         """The installed values of the dampers a search sizes (:attr:`searched`): the working

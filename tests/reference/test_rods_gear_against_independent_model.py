@@ -31,33 +31,16 @@ dofs and flap; and a 5-bladed rotor with next-but-one rods, one failed, on a
 rigid body (x, y, roll, yaw).
 """
 
-import importlib.util
-import sys
 import time
 import tomllib
 from pathlib import Path
 
+import independent_rods_gear as ind  # (beside this file: pytest puts this folder on the path)
 import numpy as np
 import pytest
 
 from groundres import analyze, load_case
-
-HERE = Path(__file__).resolve().parent
-CASES = HERE.parents[1] / "src" / "groundres" / "cases"
-
-
-def _model_module():
-    name = "independent_rods_gear"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, HERE / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-ind = _model_module()
+from groundres.config import shipped_cases
 
 RANGE_RTOL = 2e-3  # acceptance: each range end within 0.2 % of the speed
 REAL_ATOL = 1e-6  # [1/s]
@@ -330,34 +313,32 @@ VARIANTS = {
 
 def _shipped_with_rods_or_gear():
     out = []
-    for path in sorted(CASES.glob("*.toml")):
-        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
+    for name, text in shipped_cases().items():
+        data = tomllib.loads(text)
         if (
-            path.name.startswith("light-helicopter-")
+            name.startswith("light-helicopter-")
             or "damper" in data.get("rotor", {})
             or "gear" in data.get("body", {})
         ):
-            out.append(path)
+            out.append((name, text))
     return out
 
 
 SHIPPED = _shipped_with_rods_or_gear()
-PARAMS = [pytest.param(("file", p), id=p.stem) for p in SHIPPED] + [
+PARAMS = [pytest.param(("shipped", name), id=name) for name, _ in SHIPPED] + [
     pytest.param(("text", name), id=name) for name in VARIANTS
 ]
 
 
 def test_the_shipped_inter_blade_cases_are_included():
-    names = {p.stem for p in SHIPPED}
+    names = {name for name, _ in SHIPPED}
     assert {"hammond-interblade", "hammond-interblade-one-failed"} <= names
 
 
 def _case_path(which, tmp_path) -> Path:
     kind, value = which
-    if kind == "file":
-        return value
     path = tmp_path / f"{value}.toml"
-    path.write_text(VARIANTS[value], encoding="utf-8")
+    path.write_text(dict(SHIPPED)[value] if kind == "shipped" else VARIANTS[value], encoding="utf-8")
     return path
 
 

@@ -183,6 +183,12 @@ def deutsch_notes(summary: dict, sweep) -> list[str]:
     if ref:
         notes.append(ref)
     limits = {e.get("limitation") for e in rows} - {None}
+    if "damper rods differ" in limits:
+        notes.append(
+            "Damper rods differ: the criterion assumes every blade alike with its rods; its 'needs' is "
+            "for the rotor's average rod, which can miss what a failed rod does. The exact minimum "
+            "below governs."
+        )
     if "blades differ" in limits:
         notes.append(
             "Blades differ: the criterion assumes identical blades; its 'needs' is for the "
@@ -223,11 +229,17 @@ def print_result(console, result, out_dir) -> None:
     lag = summary["lag_damping"]
     exact = lag["exact_minimum"]
     unit = lag["exact_minimum_unit"]
-    if "rods" in lag:
+    if lag["exact_minimum_searched"] == "damper rods":
         what = "damper-rod damping"
         which = "every rod" if result.case.rotor.identical else "every working rod"
         values = sorted({r["damping"] for r in lag["rods"] if r["damping"] > 0})
-        installed = "installed: " + (f"{values[0]:.5g} N s/m" if len(values) == 1 else "rods differ")
+        installed = "installed: " + (
+            "no rod damping"
+            if not values
+            else f"{values[0]:.5g} N s/m"
+            if len(values) == 1
+            else f"rods differ, the smallest working {values[0]:.5g} N s/m"
+        )
     else:
         what = "lag damping"
         which = "every blade" if result.case.rotor.identical else "every working damper"

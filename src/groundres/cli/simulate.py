@@ -34,7 +34,7 @@ from .common import (
     multiple=True,
     metavar="NAME=VALUE",
     help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
-    "[default: x, y, pitch, roll present = 0.01 and lag1 = 0.01].",
+    "[default: every body dof present = 0.01 and lag1 = 0.01].",
 )
 @out_option("groundres-out/<case name>-simulate")
 def command(case, speed, duration, initial, out):

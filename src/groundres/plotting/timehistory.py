@@ -14,7 +14,7 @@ import numpy as np
 
 from .titles import figure_title
 
-_ANGLES = ("pitch", "roll")
+_ANGLES = ("pitch", "roll", "yaw")
 
 
 def envelope(time, values) -> np.ndarray:

@@ -47,6 +47,8 @@ REPEATED = tuple(
 _ENTRY = re.compile(rf"^({'|'.join(re.escape(t) for t in REPEATED)})\[([0-9]+)\]\.([a-z_]+)$", re.ASCII)
 #: The key that names an entry of a repeated table (others are named by their place).
 _NAMED_BY = {t: "index" for t in REPEATED if SCHEMA[t].get("index") == "a whole number"}
+#: Keys of repeated tables that say which blade an entry belongs to: no design values.
+_WHICH = {"index", "blade"}
 
 
 class StudyError(CaseError):
@@ -58,7 +60,7 @@ def numeric_keys() -> list[str]:
     out = []
     for table, keys in SCHEMA.items():
         for key, kind in keys.items():
-            if kind not in ("a number", "a whole number") or key == _NAMED_BY.get(table):
+            if kind not in ("a number", "a whole number") or (table in REPEATED and key in _WHICH):
                 continue
             if table in REPEATED:
                 out.append(f"{table}[k].{key}")
@@ -75,7 +77,7 @@ def key_kind(key: str) -> str:
     else:
         table, _, name = key.rpartition(".")
     kind = SCHEMA.get(table, {}).get(name)
-    if entry is None and table in REPEATED or (entry and name == _NAMED_BY.get(table)):
+    if entry is None and table in REPEATED or (entry and name in _WHICH):
         kind = None  # (an entry's keys need its number; the number names it, it is no design value)
     if kind not in ("a number", "a whole number"):
         near = difflib.get_close_matches(key, numeric_keys(), n=1, cutoff=0.6)
@@ -238,8 +240,7 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
             or ("rotor.lag_damping" in keys and "lag_damping" not in overrides.get(i + 1, {}))
         ]
         # (damper rods: each working one fails in turn, besides the blades' own dampers)
-        working_rods = [d for d in case.rotor.dampers if d.damping > 0] or list(case.rotor.dampers)
-        rods = [f"{d.kind} rod {d.blade}" for d in working_rods]
+        rods = [f"{d.kind} rod {d.blade}" for d in case.rotor.dampers if d.damping > 0]
         if not working and not rods:
             raise StudyError(
                 "--failures single: no blade of the study has a working lag damper to fail (nor a damper rod)"

@@ -76,7 +76,9 @@ def failure_class(data, values, failure, source) -> str:
         rotor = varied_case(data, values, NO_FAILURE, source).rotor
     except POINT_ERRORS:  # (the point itself says what is wrong)
         return failure
-    return ANY_BLADE if rotor.identical else failure
+    if not rotor.identical:
+        return failure
+    return ANY_BLADE if failure.startswith("blade ") else f"any {failure.rpartition(' rod ')[0]} rod"
 
 
 def compute(data, source, grid, store: Path | None = None, fresh=None, client=None, progress=None):

@@ -69,7 +69,7 @@ def line(data, source, others: Grid, key: str, span: tuple, flat: int) -> dict:
 def lines(data, source, others, key, span, flats) -> list[dict]:
     """:func:`line` for each of ``flats`` (the single failures of alike blades searched once:
     :func:`groundres.studies.run.compute_points`)."""
-    from .run import ANY_BLADE, failure_class
+    from .run import failure_class
 
     seen, out = {}, []
     for i in flats:
@@ -77,8 +77,9 @@ def lines(data, source, others, key, span, flats) -> list[dict]:
         # (alike all along the line: at both ends of a rotor-wide key, whose blade overrides, if
         # any, stay put while it moves; a key of one blade, rod or leg makes them differ)
         ends = [{**values, key: v} for v in span[:2]]
-        alike = "[" not in key and all(failure_class(data, end, failure, source) != failure for end in ends)
-        ident = (tuple(values.items()), ANY_BLADE if alike else failure)
+        classes = {failure_class(data, end, failure, source) for end in ends}
+        alike = "[" not in key and len(classes) == 1 and failure not in classes
+        ident = (tuple(values.items()), classes.pop() if alike else failure)
         if ident in seen:  # (no sweep of its own: another line turned)
             out.append({**seen[ident], "evaluations": 0})
             continue
