@@ -324,6 +324,12 @@ ONE_LEG = RIGID[: RIGID.index("[[body.gear]]")] + RIGID[RIGID.rindex("[[body.gea
         (INTER.replace('"blade-to-blade"', '"blade-to-bladee"'), ["kind", "blade-to-blade"]),
         (INTER.replace("damping = 2e4", "damping = -1.0"), ["damping", ">= 0"]),
         (ONE_LEG, ["dofs", "pitch"]),
+        (INTER.replace("start_x = 0.3", "start_x = 1e155"), ["start_x", "1e+100"]),
+        (RIGID.replace("hub_height = 2.5", "hub_height = 2.5\ncentre_z = -1e120"), ["centre_z", "1e+100"]),
+        (
+            load_case("hammond-1974-one-damper").text.replace("start = 30.0", "start = 1e-200"),
+            ["too close to zero", "1e-100 rad/s"],
+        ),
         (RIGID.replace("mass = 1100.0", "mass = 1100.0\nmass_x = 1100.0"), ["mass_x", "exclusive"]),
         (RIGID.replace("inertia_yy = 2500.0\n", ""), ["inertia_yy"]),
         (

@@ -427,6 +427,7 @@ def analyze(
     deutsch = deutsch_in_si(system, unit)
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
     if solver.kind == "floquet":
+        transition.check_slowest(speeds)
         low = damping_search.lowest_search_speed(deutsch)
         windows = damping_search.search_windows(deutsch)  # (and the ranges, which the sweep will find)
         search = damping_search.search_grid(speeds, probe, True, low, windows) if lag_damping_search else None

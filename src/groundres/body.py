@@ -29,7 +29,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .checks import ParameterError, finite, non_negative, positive
+from .checks import ParameterError, finite, lengths, non_negative, positive
 
 BODY_DOFS = ("x", "y", "z", "pitch", "roll", "yaw")
 #: Coordinates that translate (their inertia is a mass).
@@ -85,9 +85,7 @@ class Leg:
     damping_z: float = 0.0
 
     def __post_init__(self):
-        for name in ("position_x", "position_y", "position_z"):
-            if not finite(getattr(self, name)):
-                raise ParameterError(name, getattr(self, name), "must be a finite number [m]")
+        lengths(self, "position_x", "position_y", "position_z")
         non_negative(self, *(f"{k}_{a}" for k in ("stiffness", "damping") for a in "xyz"))
         if not any(getattr(self, f"stiffness_{a}") > 0 for a in "xyz"):
             raise ParameterError(
@@ -183,9 +181,7 @@ class Body:
         # a subset: its order carries no meaning, the model's coordinates follow BODY_DOFS
         object.__setattr__(self, "dofs", tuple(d for d in BODY_DOFS if d in dofs))
         object.__setattr__(self, "gear", tuple(self.gear))
-        for name in ("hub_height", "hub_x", "hub_y"):
-            if not finite(getattr(self, name)):
-                raise ParameterError(name, getattr(self, name), "must be a finite number [m]")
+        lengths(self, "hub_height", "hub_x", "hub_y")
         if self.form == "rigid":
             self._check_rigid()
         else:
@@ -208,9 +204,10 @@ class Body:
                 "[[body.gear]]) are exclusive: give one",
             )
         positive(self, "mass")
-        for name in RIGID_KEYS[1:]:
+        for name in RIGID_KEYS[1:7]:
             if not finite(getattr(self, name)):
-                raise ParameterError(name, getattr(self, name), "must be a finite number")
+                raise ParameterError(name, getattr(self, name), "must be a finite number [kg m^2]")
+        lengths(self, "centre_x", "centre_y", "centre_z")
         if not self.gear:
             raise ParameterError("gear", [], "a rigid body needs at least one [[body.gear]] leg")
         # (the tensor about the axes the body turns about: roll x, pitch y, yaw z)

@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .checks import ParameterError, finite, non_negative
+from .checks import ParameterError, lengths, non_negative
 
 #: Damper kinds and the blades each spans (0: to the hub).
 KINDS = {"blade-to-hub": 0, "blade-to-blade": 1, "blade-to-next-but-one": 2}
@@ -69,9 +69,7 @@ class Damper:
         if self.kind not in KINDS:
             raise ParameterError("kind", self.kind, f"must be one of {list(KINDS)}")
         non_negative(self, "damping", "stiffness")
-        for name in GEOMETRY:
-            if not finite(getattr(self, name)):
-                raise ParameterError(name, getattr(self, name), "must be a finite number [m]")
+        lengths(self, *GEOMETRY)
 
     @property
     def span(self) -> int:

@@ -76,6 +76,23 @@ class SpeedRangeError(ValueError):
         self.speed = speed
 
 
+#: Slowest rotor speed [rad/s] a periodic analysis takes: its azimuth-domain coefficients grow
+#: as 1/Omega^2, which overflows below about 1e-154 rad/s once multiplied by a stiffness.
+SLOWEST = 1e-100
+
+
+def check_slowest(speeds) -> None:
+    """SpeedRangeError for a moving speed below :data:`SLOWEST` (the rotor at rest is fine)."""
+    speeds = np.asarray(speeds, dtype=float)
+    moving = speeds[speeds > 0]
+    if len(moving) and moving.min() < SLOWEST:
+        raise SpeedRangeError(
+            float(moving.min()),
+            f"is too close to zero (the periodic equations' coefficients grow as 1/Omega^2; "
+            f"the slowest speed taken is {SLOWEST:.0e} rad/s)",
+        )
+
+
 def transition(
     system: System,
     speeds,
