@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import damping_search, floquet, identify, limits, modal, scan, stability, transition
+from .body import ROTATING_PAIRS
 from .deutsch import deutsch_in_si
 from .identify import Modes
 from .limits import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
@@ -26,7 +27,7 @@ from .results import SweepResult
 from .system import System
 
 METHOD_NAMES = {"multiblade": "multiblade-eigen", "rotating": "rotating-eigen", "floquet": "floquet"}
-_ISOTROPIC_PAIRS = (("x", "y"), ("pitch", "roll"))
+_ISOTROPIC_PAIRS = ROTATING_PAIRS  # (the pairs that turn with the rotor in rotating axes)
 
 
 class MethodError(ValueError):

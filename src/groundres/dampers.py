@@ -23,7 +23,7 @@ different distances from the two hinges it adds a small collective part.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -83,7 +83,7 @@ class Damper:
 
     def turned(self, shift: int, n_blades: int) -> Damper:
         """The same rod starting ``shift`` blades further on."""
-        return _replace_blade(self, (self.blade - 1 + shift) % n_blades + 1)
+        return replace(self, blade=(self.blade - 1 + shift) % n_blades + 1)
 
     def gradient(self, offsets, n_blades: int) -> np.ndarray:
         """Gradient of the rod's length at rest: (lag, flap) of each blade it joins, (2 or 4,).
@@ -130,12 +130,6 @@ class Damper:
             raise ParameterError(
                 "end_x", self.end_x, f"the rod's two ends coincide (blade {self.blade}): it has no length"
             )
-
-
-def _replace_blade(damper: Damper, blade: int) -> Damper:
-    from dataclasses import replace
-
-    return replace(damper, blade=blade)
 
 
 def matrices(rotor, n_body: int, flap: bool) -> np.ndarray:
