@@ -14,7 +14,7 @@ def command(name):
     import tomllib
 
     from ..config import shipped_cases
-    from .report import simple_table
+    from .printout import simple_table
 
     shipped = shipped_cases()
     console = make_console()

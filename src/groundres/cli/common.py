@@ -120,6 +120,19 @@ def out_option(default: str):
 
 OUT = out_option("groundres-out/<case name>")
 
+#: File formats of pictures (matplotlib writes each; animations stay GIF).
+FIGURE_FORMATS = ("png", "svg", "pdf")
+
+#: --format, for every command that draws a picture.
+FORMAT = click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FIGURE_FORMATS),
+    default="png",
+    show_default=True,
+    help="File format of the pictures written.",
+)
+
 
 def make_console():
     from rich.console import Console

@@ -59,7 +59,7 @@ def command(case, out, frame, method, damping_ratio):
     warm = warm_plotting()
     from .. import folders
     from ..analysis import analyze
-    from .report import print_result
+    from .printout import print_result
 
     with Steps(console, STAGES) as steps:
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
