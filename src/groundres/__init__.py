@@ -32,6 +32,8 @@ _API = {
     "System": "system",
     "study": "studies",
     "StudyError": "studies",
+    "compare": "comparison",
+    "Comparison": "comparison",
 }
 
 __all__ = ["__version__", *_API]

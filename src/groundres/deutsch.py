@@ -193,6 +193,36 @@ def _hub_equivalent(rotor: Rotor, body: Body, dof: str):
     return tuple(float(x) for x in out)
 
 
+def average_blade(rotor: Rotor):
+    """The smeared blade: every property averaged over the blades."""
+    from dataclasses import fields
+
+    from .params import Blade
+
+    return Blade(
+        # (each divided by N first: the sum of N values near the largest float overflows)
+        **{
+            f.name: float(sum(getattr(b, f.name) / len(rotor.blades) for b in rotor.blades))
+            for f in fields(Blade)
+        }
+    )
+
+
+def _lag_spring(rotor: Rotor, blade) -> tuple[float, float]:
+    """(k1, k2) of the average blade's cyclic lag frequency nu^2 = k1 / Omega^2 + k2:
+    k1 = (K_lag + the rods' cyclic stiffness) / I [1/s^2], k2 = e S / I [-]."""
+    k1 = (blade.lag_stiffness + _rod_cyclic(rotor, "stiffness")) / blade.blade_inertia
+    k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
+    return k1, k2
+
+
+def lag_frequency_per_rev(rotor: Rotor, rotor_speed: float) -> float:
+    """Rotating cyclic lag frequency nu [per rev] of the average blade at ``rotor_speed`` [rad/s]:
+    nu^2 = (K_lag + rods) / (I Omega^2) + e S / I (the nu of the Deutsch criterion)."""
+    k1, k2 = _lag_spring(rotor, average_blade(rotor))
+    return math.sqrt(k1 / rotor_speed**2 + k2) if rotor_speed > 0 else math.inf
+
+
 def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     """Deutsch-criterion lag damping for each body mode (see module docstring).
 
@@ -203,20 +233,9 @@ def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:
     not apply (``limitation``) and give no verdict; the installed value is the
     smallest working damper (:func:`installed_lag_damping`).
     """
-    from dataclasses import fields
-
-    from .params import Blade
-
-    blade = Blade(
-        # (each divided by N first: the sum of N values near the largest float overflows)
-        **{
-            f.name: float(sum(getattr(b, f.name) / len(rotor.blades) for b in rotor.blades))
-            for f in fields(Blade)
-        }
-    )
+    blade = average_blade(rotor)
     n = rotor.n_blades
-    k1 = (blade.lag_stiffness + _rod_cyclic(rotor, "stiffness")) / blade.blade_inertia
-    k2 = blade.hinge_offset * blade.blade_static_moment / blade.blade_inertia
+    k1, k2 = _lag_spring(rotor, blade)
     s = blade.blade_static_moment
     installed, failed = installed_lag_damping(rotor)
     limitation = (

@@ -157,8 +157,8 @@ class FloquetSolution:
         frequency) have conjugate keys.
     real_lower, real_upper : ndarray (n_s, 2n) or None
         (with ``bounds``) Bounds of each exponent's real part [1/s] given the
-        integration's error: ln(|rho| -+ kappa ||dPhi||) / T, with kappa the
-        multiplier's condition number and ||dPhi|| <= 2n e max(1, |Phi|) from
+        integration's error: ``ln(|rho| -+ kappa ||dPhi||) / T``, with kappa the
+        multiplier's condition number and ``||dPhi|| <= 2n e max(1, |Phi|)`` from
         the error estimate e of an entry (first order in dPhi; the estimate
         itself overstates the error, 7 to 5000 times on the embedded
         estimate's calibration cases); -inf and +inf for a lifted speed.

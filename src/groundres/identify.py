@@ -139,9 +139,9 @@ class Modes:
 
 
 def damping_ratio(roots, scale=None) -> np.ndarray:
-    """-Re(lambda)/|lambda| [-]; 0 for a root at the origin.
+    """``-Re(lambda)/|lambda|`` [-]; 0 for a root at the origin.
 
-    A root at the origin (|lambda| below 1e-12 of ``scale``, by default the
+    A root at the origin (``|lambda|`` below 1e-12 of ``scale``, by default the
     largest root along the last axis) is a neutral mode with no restoring
     force, such as a free hinge at rest: it neither grows nor decays, so its
     damping ratio is 0, between the decaying (+1) and the growing (-1) real

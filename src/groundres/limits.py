@@ -279,7 +279,7 @@ def check_representable(system, speed: float, key: str, speed_unit=("rad/s", 1.0
 
 
 def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
-    """Largest |root| [1/s] of the equations frozen at four azimuths, at each speed (n_s,).
+    """Largest ``|root|`` [1/s] of the equations frozen at four azimuths, at each speed (n_s,).
 
     Raises
     ------

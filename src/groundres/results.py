@@ -161,8 +161,49 @@ class SweepResult:
         coords, variables, attrs = self.dataset()
         return xr.Dataset(variables, coords=coords, attrs=attrs)
 
-    def plot(self, **kwargs):
-        """Coleman diagram (see :func:`groundres.plotting.coleman.coleman_diagram`)."""
+    def plot(
+        self,
+        fig=None,
+        show_damping_ratio: bool = False,
+        *,
+        speed_axis: str = "auto",
+        frequency_limits=None,
+        real_limits=None,
+        modes=None,
+    ):
+        """Coleman diagram (a matplotlib Figure).
+
+        Parameters
+        ----------
+        fig : matplotlib Figure, optional
+            Figure to draw in; a new one if None.
+        show_damping_ratio : bool
+            Damping ratio [-] instead of the real part [1/s] in the lower panel.
+        speed_axis : {"auto", "unit", "normalised"}
+            Speeds in the case's unit, or divided by its reference speed
+            ("auto": normalised where the case has a reference).
+        frequency_limits, real_limits : (float, float), optional
+            Ranges of the frequency axis (in its units as shown) and of the
+            lower panel (1/s, or the damping ratio).
+        modes : sequence of str, optional
+            Labels of the modes to draw; the unstable ranges show regardless.
+
+        See Also
+        --------
+        groundres.plotting.coleman.coleman_diagram
+
+        Examples
+        --------
+        >>> result.plot(modes=["regressive lag"], real_limits=(-0.5, 0.1))  # doctest: +SKIP
+        """
         from .plotting.coleman import coleman_diagram
 
-        return coleman_diagram(self, **kwargs)
+        return coleman_diagram(
+            self,
+            fig,
+            show_damping_ratio,
+            speed_axis=speed_axis,
+            frequency_limits=frequency_limits,
+            real_limits=real_limits,
+            modes=modes,
+        )

@@ -7,7 +7,7 @@ frame is its complex amplitude at the harmonic that dominates the mode in that
 frame (the one its frequency was identified from); the rate phasor is that
 amplitude times lambda + i m Omega. For a neutral mode every rate leads its
 displacement by exactly 90 degrees; a growing mode's rate has a component in
-phase with the displacement, of relative size Re(lambda)/|lambda| (the seed
+phase with the displacement, of relative size ``Re(lambda)/|lambda|`` (the seed
 paper's observation: the in-phase part is the energy exchange that feeds the
 instability).
 
@@ -54,12 +54,12 @@ class Phasor:
 
     @property
     def in_phase(self) -> float:
-        """Part of the rate in phase with the displacement, as a fraction of |rate|."""
+        """Part of the rate in phase with the displacement, as a fraction of ``|rate|``."""
         return float(np.cos(np.radians(self.rate_lead)))
 
     @property
     def quadrature(self) -> float:
-        """Part of the rate 90 degrees ahead of the displacement, as a fraction of |rate|."""
+        """Part of the rate 90 degrees ahead of the displacement, as a fraction of ``|rate|``."""
         return float(np.sin(np.radians(self.rate_lead)))
 
     @property

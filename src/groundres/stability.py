@@ -34,7 +34,7 @@ def growth_threshold(speeds):
 
 
 def is_neutral(real_part, speeds):
-    """Whether real parts [1/s] at ``speeds`` [rad/s] are round-off: |real part|
+    """Whether real parts [1/s] at ``speeds`` [rad/s] are round-off: ``|real part|``
     at or below the growth threshold (neither growth nor decay)."""
     return np.abs(real_part) <= growth_threshold(speeds)
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from ._version import __version__
-from .deutsch import DeutschEntry, installed_lag_damping
+from .deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
 from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 from .system import searched
 
@@ -101,6 +101,22 @@ def no_exact_reason(result, speed) -> str:
     )
 
 
+def _lag_frequency_at(rotor, speed) -> dict:
+    """The rotating cyclic lag frequency [per rev] at the reference speed (summary.json's block)."""
+    entry = {
+        "unit": "per rev",
+        "note": "nu = sqrt((K_lag + rods' cyclic stiffness) / (I Omega^2) + e S / I) of the average "
+        "blade at the reference speed: below 1 soft in plane (ground resonance possible), above 1 stiff",
+    }
+    put(entry, "speed", speed, "no reference speed in the case")
+    return put(
+        entry,
+        "value",
+        lag_frequency_per_rev(rotor, speed) if speed else None,
+        "no reference speed in the case",
+    )
+
+
 def summary(result) -> dict:
     """The summary.json content of a :class:`~groundres.results.SweepResult`."""
     st = result.stability
@@ -143,6 +159,7 @@ def summary(result) -> dict:
         "modes": list(result.labels),
     }
     put(out["sweep"], "reference", sweep.reference, "no reference speed in the case")
+    out["lag_frequency_at_reference"] = _lag_frequency_at(case.rotor, sweep.reference)
     lag = {
         "unit": "N m s/rad",
         "installed": installed,

@@ -52,7 +52,7 @@ from .tableau import BUTCHER6, DOP8, Tableau  # noqa: F401  (for callers)
 STEP_SCALE = 1.0
 #: Rate [1/rad] added for the azimuth variation of the coefficients themselves.
 HARMONIC_RATE = 2.0
-#: Accuracy asked of the transition matrix (entries, relative to max(1, |Phi|)).
+#: Accuracy asked of the transition matrix (entries, relative to ``max(1, |Phi|)``).
 TOLERANCE = 5e-11
 #: Smallest step count per interval of the NumPy reference's Richardson ladder.
 BASE_STEPS = 32
@@ -174,7 +174,7 @@ def transition_estimated(
     -------
     parts : ndarray (blocks, n_s, 2n, 2n)
     error : ndarray (n_s,)
-        Sum of the steps' estimated errors, relative to max(1, |Phi|)
+        Sum of the steps' estimated errors, relative to ``max(1, |Phi|)``
         (:func:`groundres.propagate.propagate`).
     """
     from .propagate import propagate  # (numba is imported only where periodic analyses run)
@@ -292,7 +292,7 @@ def integrate(
     :data:`ESTIMATE_SLACK`); a speed that fails is integrated again with the
     step count the estimate predicts (error ~ S^-7). With NumPy each speed is
     integrated with S steps and with fewer steps S' on the same ladder; the
-    Richardson estimate |Phi_S - Phi_S'| / ((S/S')^p - 1) of the error of
+    Richardson estimate ``|Phi_S - Phi_S'| / ((S/S')^p - 1)`` of the error of
     Phi_S decides, and the last result serves as the next comparison. Both
     meet the tolerance; their step counts differ.
 
@@ -307,7 +307,7 @@ def integrate(
         speed with its final result: ``phi`` (k, 2n, 2n) over the interval,
         ``parts`` (blocks, k, 2n, 2n) over its parts, ``error`` (k,) the
         estimate of the largest error of an entry of ``phi``, relative to
-        max(1, |phi|) (embedded, or Richardson's).
+        ``max(1, |phi|)`` (embedded, or Richardson's).
     rate : ndarray, optional
         Fastest rate per radian at each speed, if known (:func:`rates_per_radian`).
     least : ndarray, optional

@@ -14,7 +14,7 @@ import sys
 
 import click
 
-from . import cases, equations, phasors, run, simulate, study
+from . import cases, compare, equations, gallery, phasors, report, run, simulate, study
 from .common import Terminated, UserError, interrupts
 
 
@@ -86,5 +86,5 @@ def main():
     """
 
 
-for _module in (run, simulate, phasors, study, cases, equations):
+for _module in (run, simulate, phasors, study, compare, report, gallery, cases, equations):
     main.add_command(_module.command)

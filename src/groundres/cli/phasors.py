@@ -7,6 +7,7 @@ import contextlib
 import click
 
 from .common import (
+    FORMAT,
     Steps,
     case_at_speed,
     check_out,
@@ -36,14 +37,16 @@ from .run import STAGES
     "--gif/--no-gif", default=True, help="Also write an animated mode shape per mode [default: on]."
 )
 @out_option("groundres-out/<case name>-phasors")
-def command(case, speed, labels, gif, out):
+@FORMAT
+def command(case, speed, labels, gif, out, fmt):
     """Phasor diagrams, rate phases, whirl and animated shapes of modes of CASE at one speed.
 
-    Writes phasors_<mode>.png (nonrotating and rotating frames), mode_<mode>.gif,
-    and phasors.csv / phasors.json with every coordinate's displacement and rate,
-    the rate's lead over the displacement split into quadrature (neutral) and
-    in-phase (growth) parts, and the whirl decomposition of the rotor (with
-    case.toml and provenance.json).
+    Writes phasors_<mode>.<format> (nonrotating and rotating frames; png
+    unless --format says), mode_<mode>.gif (always GIF), and phasors.csv /
+    phasors.json with every coordinate's displacement and rate, the rate's
+    lead over the displacement split into quadrature (neutral) and in-phase
+    (growth) parts, and the whirl decomposition of the rotor (with case.toml
+    and provenance.json).
     """
     import numpy as np
 
@@ -83,7 +86,8 @@ def command(case, speed, labels, gif, out):
             from ..plotting.phasors import phasor_diagram
 
             with steps.step(f"Phasor diagrams of {label}"):
-                io.write_figure(phasor_diagram(shape, speed_text=speed_text), folder / f"phasors_{slug}.png")
+                fig = phasor_diagram(shape, speed_text=speed_text)
+                io.write_figure(fig, folder / f"phasors_{slug}.{fmt}")
             frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
             for frame, items in frames.items():
                 rows += [{"mode": label, "frame": frame, **item} for item in items]
@@ -131,7 +135,7 @@ def command(case, speed, labels, gif, out):
         console.print(plain(ref_note(the_case.sweep)))
     gifs = ", mode_*.gif" if gif else ""
     console.print(
-        f"Wrote {plain(out_dir)}/phasors_*.png{gifs}, phasors.csv, phasors.json, case.toml, provenance.json"
+        f"Wrote {plain(out_dir)}/phasors_*.{fmt}{gifs}, phasors.csv, phasors.json, case.toml, provenance.json"
     )
 
 

@@ -204,7 +204,7 @@ def deutsch_notes(summary: dict, sweep) -> list[str]:
     return [plain(n) for n in notes]
 
 
-def print_result(console, result, out_dir) -> None:
+def print_result(console, result, out_dir, fmt: str = "png") -> None:
     summary = result.summary()
     sweep = result.case.sweep
     console.print(
@@ -252,5 +252,5 @@ def print_result(console, result, out_dir) -> None:
     else:
         console.print(f"Exact minimum {what} (on {which}, from the roots): {exact:.5g} {unit} ({installed}).")
     console.print(
-        f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.png, case.toml, provenance.json"
+        f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.{fmt}, case.toml, provenance.json"
     )

@@ -9,6 +9,7 @@ import click
 
 from .common import (
     DEFAULT_CASE,
+    FORMAT,
     OUT,
     Steps,
     check_out,
@@ -17,6 +18,7 @@ from .common import (
     make_console,
     output_dir,
 )
+from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
 
 #: What the progress display calls the analysis stages.
 STAGES = {
@@ -43,17 +45,30 @@ STAGES = {
     help="Analysis method (overrides the case).",
 )
 @click.option("--damping-ratio", is_flag=True, help="Plot damping ratio instead of real part.")
-def command(case, out, frame, method, damping_ratio):
+@plot_options(
+    "Rotor-speed axis: the case's unit, or divided by its [sweep] reference; auto normalises "
+    "where the case has a reference."
+)
+@FORMAT
+def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limits, real_limits, modes, fmt):
     """Analyse CASE (a TOML file or a shipped case name) over its speed sweep.
 
-    Writes summary.json, modes.csv, modes.nc, coleman.png, case.toml and
-    provenance.json into --out, replacing the folder whole. With no CASE, runs
-    the built-in default, the shipped case 'hammond-undamped'.
+    Writes summary.json, modes.csv, modes.nc, coleman.<format> (the Coleman
+    diagram; png unless --format says), case.toml and provenance.json into
+    --out, replacing the folder whole. With no CASE, runs the built-in
+    default, the shipped case 'hammond-undamped'.
     """
     console = make_console()
+    plot = {
+        "show_damping_ratio": damping_ratio,
+        "speed_axis": speed_axis,
+        "frequency_limits": parse_limits(frequency_limits, "--frequency-limits"),
+        "real_limits": parse_limits(real_limits, "--real-limits"),
+    }
     if case is None:
         console.print(f"No case given: running the built-in default case [bold]{DEFAULT_CASE}[/bold].")
     the_case = load(case)
+    check_reference(the_case, speed_axis)
     out_dir = output_dir(case, out)
     check_out(out_dir)
     warm = warm_plotting()
@@ -63,8 +78,10 @@ def command(case, out, frame, method, damping_ratio):
 
     with Steps(console, STAGES) as steps:
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        plot["modes"] = check_modes(modes, result.labels)
+        check_scale(result, speed_axis=speed_axis)
         with steps.step("write"), folders.output_folder(out_dir) as folder:
-            _write_all(result, folder, damping_ratio, warm)
+            _write_all(result, folder, plot, warm, fmt)
             folders.write_provenance(
                 folder,
                 the_case,
@@ -74,7 +91,7 @@ def command(case, out, frame, method, damping_ratio):
                 accuracy=result.accuracy,
                 **invocation(),
             )
-    print_result(console, result, out_dir)
+    print_result(console, result, out_dir, fmt)
 
 
 def _import_plotting() -> None:
@@ -103,8 +120,14 @@ def warm_plotting() -> threading.Thread:
     return thread
 
 
-def _write_all(result, out_dir: Path, damping_ratio: bool, warm: threading.Thread | None = None):
-    """Write the four result files into ``out_dir`` (the picture last: its imports finish meanwhile)."""
+def _write_all(
+    result, out_dir: Path, plot: dict, warm: threading.Thread | None = None, fmt: str = "png"
+) -> None:
+    """Write the four result files into ``out_dir`` (the picture last: its imports finish meanwhile).
+
+    ``plot``: keyword arguments of :meth:`~groundres.results.SweepResult.plot`; ``fmt``: the
+    picture's format (png, svg or pdf).
+    """
     from .. import io
 
     io.write_summary(result, out_dir / "summary.json")
@@ -112,4 +135,4 @@ def _write_all(result, out_dir: Path, damping_ratio: bool, warm: threading.Threa
     io.write_modes_netcdf(result, out_dir / "modes.nc")
     if warm is not None:
         warm.join()
-    io.write_figure(result.plot(show_damping_ratio=damping_ratio), out_dir / "coleman.png")
+    io.write_figure(result.plot(**plot), out_dir / f"coleman.{fmt}")

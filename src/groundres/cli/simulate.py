@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from .common import (
+    FORMAT,
     Steps,
     case_at_speed,
     check_out,
@@ -37,12 +38,14 @@ from .common import (
     "[default: every body dof present = 0.01 and lag1 = 0.01].",
 )
 @out_option("groundres-out/<case name>-simulate")
-def command(case, speed, duration, initial, out):
+@FORMAT
+def command(case, speed, duration, initial, out, fmt):
     """Integrate the periodic equations of CASE in time at one rotor speed.
 
-    Writes simulation.png (body and blade motion) and simulation.csv (with
-    case.toml and provenance.json), and compares the measured growth rate
-    with the largest real part from the eigen- or Floquet analysis.
+    Writes simulation.<format> (body and blade motion; png unless --format
+    says) and simulation.csv (with case.toml and provenance.json), and
+    compares the measured growth rate with the largest real part from the
+    eigen- or Floquet analysis.
     """
     import math
 
@@ -94,7 +97,7 @@ def command(case, speed, duration, initial, out):
                 predicted=predicted,
                 speed_text=fmt_speed(w, the_case.sweep),
             )
-            io.write_figure(fig, folder / "simulation.png")
+            io.write_figure(fig, folder / f"simulation.{fmt}")
             header = ["time [s]"] + [
                 f"{c.symbol if c.kind == 'body' else f'{c.kind}{c.name}'} [{coordinate_unit(c)}]"
                 for c in sim.coordinates
@@ -130,7 +133,7 @@ def command(case, speed, duration, initial, out):
             f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
             f" ({100 * (growth - predicted) / abs(predicted):+.3f} %)."
         )
-    console.print(f"Wrote {plain(out_dir)}/simulation.png, simulation.csv, case.toml, provenance.json")
+    console.print(f"Wrote {plain(out_dir)}/simulation.{fmt}, simulation.csv, case.toml, provenance.json")
 
 
 def _default_initial(case) -> dict:

@@ -7,10 +7,12 @@ from pathlib import Path
 
 import click
 
-from .common import fail_user, invocation, load, make_console
+from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_console
 
+#: The map in each format --format offers.
+MAP_FILES = {f"map.{fmt}" for fmt in FIGURE_FORMATS}
 #: What a study folder may hold: a folder with anything else is refused.
-STUDY_FILES = {"study.zarr", "study.nc", "boundary.nc", "map.png", "case.toml", "provenance.json"}
+STUDY_FILES = {"study.zarr", "study.nc", "boundary.nc", *MAP_FILES, "case.toml", "provenance.json"}
 
 
 def parse_vary(items) -> dict:
@@ -41,7 +43,7 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     if (out / other).exists():
         kind = "grid study" if boundary else "boundary search"
         fail_user(f"--out {str(out)!r}: holds a {kind}; give another folder for this one")
-    for name in ("study.nc", "map.png", "boundary.nc", "case.toml", "provenance.json"):
+    for name in ("study.nc", *sorted(MAP_FILES), "boundary.nc", "case.toml", "provenance.json"):
         if (out / name).is_dir():
             fail_user(f"--out {str(out)!r}: {name} there is a folder; give another folder")
     if out.is_dir():
@@ -78,7 +80,7 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     required=True,
     type=click.Path(file_okay=False),
     help="Study folder: study.zarr (kept chunk by chunk: the same command resumes an interrupted "
-    "study), study.nc and map.png.",
+    "study), study.nc and map.<format>.",
 )
 @click.option(
     "--workers",
@@ -97,15 +99,16 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     default=None,
     metavar="KEY",
     help="Instead of the grid: find where the stability changes along this varied key, by root "
-    "finding, for every value of the others (boundary.nc, map.png).",
+    "finding, for every value of the others (boundary.nc, map.<format>).",
 )
-def command(case, vary, failures, out, workers, scheduler, boundary):
+@FORMAT
+def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     """Stability of CASE over a grid of its keys (and single lag-damper failures).
 
     Each grid point is a full speed sweep of the case. Writes study.zarr and
     study.nc (measures per point: max_real_part, min_damping_ratio,
-    unstable_width, first_unstable_speed, stable, error) and map.png into
-    --out. Runs on a local Dask cluster unless --scheduler names one.
+    unstable_width, first_unstable_speed, stable, error) and map.<format>
+    (png unless --format says) into --out. Runs on a local Dask cluster unless --scheduler names one.
     """
     from .. import folders, io, studies
     from ..parallel import CORES
@@ -141,13 +144,13 @@ def command(case, vary, failures, out, workers, scheduler, boundary):
     out_dir.mkdir(parents=True, exist_ok=True)
     if boundary is not None:
         studies.write_netcdf(ds, out_dir / "boundary.nc")
-    io.write_figure(studies.plot(ds, the_case, grid), out_dir / "map.png")
+    io.write_figure(studies.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
     folders.write_provenance(out_dir, the_case, command="study", **invocation())
     seconds = time.perf_counter() - started
     if boundary is None:
-        _report(console, ds, grid, out_dir, seconds, progress.first or 0)
+        _report(console, ds, grid, out_dir, seconds, progress.first or 0, fmt)
     else:
-        _report_boundary(console, ds, grid, out_dir, seconds)
+        _report_boundary(console, ds, grid, out_dir, seconds, fmt)
 
 
 def _client(scheduler, workers):
@@ -219,7 +222,7 @@ class _Progress:
             self.bar.stop()
 
 
-def _report(console, ds, grid, out_dir, seconds, reused=0):
+def _report(console, ds, grid, out_dir, seconds, reused=0, fmt="png"):
     import numpy as np
 
     failed = int((ds.error.values != "").sum())
@@ -233,10 +236,10 @@ def _report(console, ds, grid, out_dir, seconds, reused=0):
     if failed:
         first = ds.error.values.ravel()[np.flatnonzero(ds.error.values.ravel() != "")[0]]
         console.print(f"A failed point's reason: {first}", markup=False)
-    console.print(f"Wrote {out_dir}/study.zarr, study.nc, map.png, case.toml, provenance.json")
+    console.print(f"Wrote {out_dir}/study.zarr, study.nc, map.{fmt}, case.toml, provenance.json")
 
 
-def _report_boundary(console, ds, grid, out_dir, seconds):
+def _report_boundary(console, ds, grid, out_dir, seconds, fmt="png"):
     import numpy as np
 
     key = ds.attrs["boundary_key"]
@@ -249,4 +252,4 @@ def _report_boundary(console, ds, grid, out_dir, seconds):
         f"(a grid would take {grid.size}); boundary found on {found}, none in the range on "
         f"{lines - found - failed}, {failed} failed."
     )
-    console.print(f"Wrote {out_dir}/boundary.nc, map.png, case.toml, provenance.json")
+    console.print(f"Wrote {out_dir}/boundary.nc, map.{fmt}, case.toml, provenance.json")

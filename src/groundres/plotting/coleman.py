@@ -17,6 +17,7 @@ import numpy as np
 
 from ..params import FREQUENCY_UNITS, SPEED_UNITS
 from ..stability import growth_threshold
+from .axes import checked_limits, checked_modes, speed_scale
 from .titles import figure_title
 
 _COLOURS = {
@@ -51,16 +52,6 @@ def label_colour(label: str, i: int = 0) -> str:
 
 def _style(label: str) -> str:
     return "--" if "flap" in label or label == "coning" else "-"
-
-
-def speed_axis(result):
-    """Factor dividing rad/s for plot axes, and the axis-unit text."""
-    sweep = result.case.sweep
-    top = float(np.max(result.rotor_speed)) if len(result.rotor_speed) else 0.0
-    # (a reference so small that the ratios leave floating point: the case's unit instead)
-    if sweep.reference and top / 1e300 < sweep.reference:
-        return sweep.reference, "-"
-    return SPEED_UNITS[sweep.unit], sweep.unit
 
 
 #: Dashes of a stretch of line that lies on another drawn before it.
@@ -164,15 +155,18 @@ def _segments(x, y, succ, exchange, label, moved=None):
     return pieces, marks
 
 
-def _roots(ax, x, values, labels, styles, colours, scale):
+def _roots(ax, x, values, labels, styles, colours, scale, show=None):
     """Each tracked root's line, coloured by the label of its mode at each speed.
 
     values, labels : (n_s, n_e). Where a root's label changes the line turns
-    colour half-way between the two speeds, at a marker. Returns the markers.
+    colour half-way between the two speeds, at a marker. ``show`` (n_m,) bool,
+    if given: only the roots of these modes are drawn. Returns the markers.
     """
     marks = []
     n_s, n_e = values.shape
-    covered = _covered(values, 0.004 * max(scale, 1e-12), labels)
+    show = np.ones(len(styles), bool) if show is None else show
+    hidden = ~show[labels]
+    covered = _covered(np.where(hidden, np.nan, values), 0.004 * max(scale, 1e-12), labels)
     for c in range(n_e):
         y, lab = values[:, c], labels[:, c]
         start = 0
@@ -182,18 +176,29 @@ def _roots(ax, x, values, labels, styles, colours, scale):
                 xs.insert(0, 0.5 * (x[start - 1] + x[start]))
                 ys.insert(0, 0.5 * (y[start - 1] + y[start]))
                 cov.insert(0, False)
+            i = lab[start]
             if s < n_s:  # to half-way before the next
                 xs.append(0.5 * (x[s - 1] + x[s]))
                 ys.append(0.5 * (y[s - 1] + y[s]))
                 cov.append(False)
-                marks.append((xs[-1], ys[-1]))
-            i = lab[start]
-            _draw(ax, xs, ys, cov, styles[i], colours[i])
+                if show[i] or show[lab[s]]:
+                    marks.append((xs[-1], ys[-1]))
+            if show[i]:
+                _draw(ax, xs, ys, cov, styles[i], colours[i])
             start = s
     return marks
 
 
-def coleman_diagram(result, fig=None, show_damping_ratio=False):
+def coleman_diagram(
+    result,
+    fig=None,
+    show_damping_ratio=False,
+    *,
+    speed_axis="auto",
+    frequency_limits=None,
+    real_limits=None,
+    modes=None,
+):
     """Draw the Coleman diagram of a sweep result.
 
     Parameters
@@ -203,16 +208,39 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         Figure to draw in (two or three axes are added); a new one if None.
     show_damping_ratio : bool
         Plot the damping ratio instead of the real part in the lower panel.
+    speed_axis : {"auto", "unit", "normalised"}
+        Rotor speeds (and frequencies) in the case's ``[sweep] unit``, or
+        divided by its ``reference`` speed ("normalised": ValueError if the
+        case has none); "auto" normalises where the case has a reference.
+    frequency_limits : (float, float), optional
+        Range of the frequency axis, in its units as shown (the case's
+        frequency unit, e.g. cycles/min for rpm, or per reference speed).
+    real_limits : (float, float), optional
+        Range of the lower panel: real part [1/s], or damping ratio [-] with
+        ``show_damping_ratio``. The near-zero panel is then left out.
+    modes : sequence of str, optional
+        Labels of the modes to draw (ValueError for a label the result does
+        not have); the unstable ranges are shaded whichever modes they are of.
 
     Returns
     -------
     matplotlib Figure
+
+    Examples
+    --------
+    >>> fig = coleman_diagram(result, modes=["regressive lag", "body x"],
+    ...                       frequency_limits=(0, 2))  # doctest: +SKIP
     """
+    if frequency_limits is not None:
+        frequency_limits = checked_limits(frequency_limits, "frequency_limits")
+    if real_limits is not None:
+        real_limits = checked_limits(real_limits, "real_limits")
+    show = np.isin(result.labels, checked_modes(modes, result.labels))
+    factor, unit = speed_scale(result, kind=speed_axis)
     if fig is None:
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(10, 8), layout="constrained")
-    factor, unit = speed_axis(result)
     w = result.rotor_speed / factor
     freq = result.frequency / factor
     lower = result.damping_ratio if show_damping_ratio else result.real_part
@@ -220,10 +248,12 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     f_unit = "-" if normalised else FREQUENCY_UNITS[unit]
     modes = result.modes
     grows = result.real_part > growth_threshold(result.rotor_speed)[:, None]
-    finite = lower[np.isfinite(lower)]
+    grows &= show
+    finite = lower[:, show][np.isfinite(lower[:, show])]
     span = float(finite.max() - finite.min()) if finite.size else 0.0
-    bump = float(result.real_part.max()) if result.real_part.size else 0.0
-    zoom = (not show_damping_ratio) and grows.any() and 0 < bump < _SMALL_BUMP * span
+    shown_real = result.real_part[:, show]
+    bump = float(shown_real.max()) if shown_real.size else 0.0
+    zoom = (not show_damping_ratio) and real_limits is None and grows.any() and 0 < bump < _SMALL_BUMP * span
     if zoom:
         ax_f, ax_d, ax_z = fig.subplots(3, 1, sharex=True, height_ratios=[3, 2, 1.2])
     else:
@@ -231,7 +261,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         ax_z = None
     panels = [ax for ax in (ax_f, ax_d, ax_z) if ax is not None]
 
-    x_span = (w[-1] - w[0]) / factor if len(w) > 1 else 1.0
+    x_span = (w[-1] - w[0]) if len(w) > 1 else 1.0  # (in the axis's units, as w)
     narrow = []  # ranges too narrow to see as a band: a line and a marker each
     for s, e in result.stability.unstable_ranges:
         for ax in panels:
@@ -259,16 +289,17 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     colours = [label_colour(label, i) for i, label in enumerate(result.labels)]
     styles = [_style(label) for label in result.labels]
     marks_f, marks_d = [], []
-    top_f = max(np.nanmax(freq) if np.isfinite(freq).any() else 0.0, 1e-12)
+    shown_freq = freq[:, show]
+    top_f = max(np.nanmax(shown_freq) if np.isfinite(shown_freq).any() else 0.0, 1e-12)
     by_label = [(ax_f, freq, harmonic, 0.004 * top_f, marks_f)]
     if show_damping_ratio:
         by_label.append((ax_d, lower, None, 0.004 * max(span, 1e-12), marks_d))
     mostly_covered = np.zeros(len(result.labels), bool)
     for ax, values, moved, tol, marks_out in by_label:
-        covered = _covered(np.nan_to_num(values), tol)
+        covered = _covered(np.where(show, np.nan_to_num(values), np.nan), tol)  # (hidden: on nothing)
         if ax is ax_f:
             mostly_covered = covered.mean(0) > 0.5
-        for i in range(len(result.labels)):
+        for i in np.flatnonzero(show):
             pieces, marks = _segments(w, values, succ, exchange, i, moved)
             for xs, ys, at in pieces:
                 _draw(ax, xs, ys, [covered[a, i] if a >= 0 else False for a in at], styles[i], colours[i])
@@ -276,7 +307,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     if not show_damping_ratio:  # every root: continuous, coloured by its mode's label
         for ax, scale in ((ax_d, span), (ax_z, 3.6 * bump)):
             if ax is not None:
-                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours, scale)
+                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours, scale, show)
                 marks_d += marks if ax is ax_d else []
     for i in np.flatnonzero(grows.any(0)):  # the growing stretches, highlighted
         ax_f.plot(w, np.where(grows[:, i], freq[:, i], np.nan), "-", color=colours[i], lw=4.0, alpha=0.5)
@@ -291,7 +322,7 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
         handles_extra.append(
             (Line2D([], [], ls="", marker="o", ms=4.5, mfc="white", mec="0.2"), "branches exchange labels")
         )
-    flagged = np.argwhere(harmonic)
+    flagged = np.argwhere(harmonic & show)
     if len(flagged):
         ax_f.plot(w[flagged[:, 0]], freq[flagged[:, 0], flagged[:, 1]], "x", ms=6, color="0.15", zorder=6)
         handles_extra.append(
@@ -306,13 +337,15 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     if not show_damping_ratio:
         # neutral roots of undamped cases sit at zero up to round-off: keep a visible scale
         floor = 0.02 * max(np.nanmax(result.frequency) if np.isfinite(result.frequency).any() else 0, 1e-12)
-        if span < floor and np.nanmax(np.abs(lower)) < floor:
+        if real_limits is None and span < floor and np.nanmax(np.abs(lower[:, show])) < floor:
             ax_d.set_ylim(-floor, floor)
+    if real_limits is not None:
+        ax_d.set_ylim(*real_limits)
     if ax_z is not None:
         ax_z.set_ylim(-2.0 * bump, 1.6 * bump)
         ax_z.set_ylabel("near zero [1/s]")
-    top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
-    ax_f.set_ylim(0, 1.05 * top)
+    top = np.nanmax(shown_freq) if np.isfinite(shown_freq).any() else 1.0
+    ax_f.set_ylim(frequency_limits or (0, 1.05 * top))
     if w[-1] > w[0]:
         ax_f.set_xlim(w[0], w[-1])
     else:  # a single speed
@@ -344,9 +377,9 @@ def coleman_diagram(result, fig=None, show_damping_ratio=False):
     ax_f.set_title(f"{figure_title(result.case.title)}\n{result.method}, {frame} frame; {text}", fontsize=10)
     handles = [
         Line2D([], [], color=colours[i], lw=1.6, linestyle=_OVER if mostly_covered[i] else styles[i])
-        for i in range(len(result.labels))
+        for i in np.flatnonzero(show)
     ]
-    labels = list(result.labels)
+    labels = [result.labels[i] for i in np.flatnonzero(show)]
     more, more_labels = ax_f.get_legend_handles_labels()  # the 1/rev lines
     handles += more
     labels += more_labels

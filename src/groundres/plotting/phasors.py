@@ -14,7 +14,7 @@ def phasor_diagram(shape, fig=None, speed_text=""):
     rotating axes (each blade; body in rotating axes). One panel per group
     (body, lag, flap), each scaled to its largest displacement. Displacements
     are solid arrows, rates hollow dashed arrows of the same colour, scaled by
-    1/|lambda| so that a neutral mode shows them equally long and 90 degrees
+    1/``abs(lambda)`` so that a neutral mode shows them equally long and 90 degrees
     ahead. ``speed_text`` names the speed in the case's unit (default: rad/s);
     a real part within the growth threshold of zero shows as 0 (neutral).
 
@@ -36,8 +36,10 @@ def phasor_diagram(shape, fig=None, speed_text=""):
             ax = axes[r, c]
             rows = [p for p in table[frame] if p.kind == group]
             scale = max((abs(p.displacement) for p in rows), default=1.0) or 1.0
-            root = max(
-                (abs(p.rate) / abs(p.displacement) for p in rows if abs(p.displacement) > 0), default=1.0
+            # (a root at the origin has no rates: nothing to scale them by)
+            root = (
+                max((abs(p.rate) / abs(p.displacement) for p in rows if abs(p.displacement) > 0), default=1.0)
+                or 1.0
             )
             ax.add_patch(_circle())
             for i, p in enumerate(rows):

@@ -9,7 +9,7 @@ springs and dampers. All blade mass lies on its span axis beyond the hinge, so
 the blade enters through its mass ``m``, static moment ``S`` and inertia ``I``
 about the hinge. Constant rotor speed, no aerodynamics, no gravity.
 
-The kinetic energy of the blade is exact for a rigid line mass,
+The kinetic energy of the blade is exact for a rigid line mass::
 
     T = 1/2 m |dA/dt|^2 + S dA/dt . dB/dt + 1/2 I |dB/dt|^2,
 
@@ -287,7 +287,7 @@ def _hessian_at_rest(expr, variables):
 def derive_rigid_body() -> sp.Matrix:
     """Mass matrix (6 x 6, BODY_DOFS order) of a rigid body, blades excluded.
 
-    T = 1/2 M |v_c|^2 + 1/2 w' J w, with v_c the velocity of the centre of
+    T = 1/2 M ``|v_c|^2`` + 1/2 w' J w, with v_c the velocity of the centre of
     mass (at ``centre`` from the pivot, turning with the body) and w the
     body's angular velocity in its own axes (R' dR/dt = [w x]); at rest its
     Hessian in the rates is the (constant) mass matrix.

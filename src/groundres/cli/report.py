@@ -1,0 +1,123 @@
+"""`groundres report`: one case as a self-contained, printable HTML page."""
+
+from __future__ import annotations
+
+import shlex
+from pathlib import Path
+
+import click
+
+from .common import (
+    FORMAT,
+    Steps,
+    check_out,
+    fail_user,
+    invocation,
+    load,
+    make_console,
+    out_option,
+    output_dir,
+    plain,
+)
+from .run import STAGES, warm_plotting
+
+#: Files a study folder holds that the report reads (one of them, with case.toml).
+STUDY_DATA = ("study.nc", "boundary.nc")
+
+
+def study_folder(path: str) -> Path:
+    """A study folder given to --study: it must hold study.nc or boundary.nc."""
+    folder = Path(path)
+    if not folder.is_dir():
+        fail_user(f"--study {path!r}: not a folder; give the --out folder of a groundres study")
+    if not any((folder / name).is_file() for name in STUDY_DATA):
+        fail_user(
+            f"--study {path!r}: holds neither study.nc nor boundary.nc; give the --out folder of a "
+            f"groundres study"
+        )
+    return folder
+
+
+@click.command("report")
+@click.argument("case", required=False)
+@out_option("groundres-out/<case name>-report")
+@FORMAT
+@click.option(
+    "--study",
+    "study",
+    metavar="FOLDER",
+    default=None,
+    help="A study's --out folder: its map and what it varied join the report "
+    "(with no CASE, the study's own case.toml is reported).",
+)
+@click.option(
+    "--frame",
+    type=click.Choice(["nonrotating", "rotating"]),
+    default=None,
+    help="Frame of the frequencies (overrides the case).",
+)
+@click.option(
+    "--method",
+    type=click.Choice(["auto", "eigen", "floquet"]),
+    default=None,
+    help="Analysis method (overrides the case).",
+)
+def command(case, out, fmt, study, frame, method):
+    """Analyse CASE and write a self-contained HTML report of it (index.html).
+
+    The page holds the verdict and unstable ranges with the modes that grow,
+    the Coleman diagram, derived quantities (lag frequency at the reference
+    speed, body frequencies with the rotor's mass, the Deutsch requirement per
+    body mode and its tuning speed), the lag damping, the phasors of the worst
+    mode at the worst speed, the case text, and the method with its accuracy
+    figures; with --study, the study's map. Pictures are embedded (the page
+    opens offline and prints cleanly) and also written beside it in --format;
+    summary.json holds every number the page shows.
+    """
+    console = make_console()
+    study_dir = study_folder(study) if study is not None else None
+    if case is None and study_dir is not None:
+        if not (study_dir / "case.toml").is_file():
+            fail_user(f"--study {study!r}: holds no case.toml; name the CASE to report")
+        case = str(study_dir / "case.toml")
+        name = study_dir.name
+    else:
+        name = case
+        if case is None:
+            console.print("No case given: reporting the built-in default case [bold]hammond-undamped[/bold].")
+    the_case = load(case)
+    out_dir = output_dir(name, out, "report")
+    check_out(out_dir)
+    warm = warm_plotting()
+    from .. import folders, io
+    from ..analysis import analyze
+
+    with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
+        result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        with steps.step("page"), folders.output_folder(out_dir) as folder:
+            warm.join()
+            from ..pages.report import report_page
+
+            meta = invocation()
+            html, files = report_page(
+                result, fmt=fmt, study=study_dir, command_line=shlex.join(["groundres", *meta["argv"]])
+            )
+            io.write_summary(result, folder / "summary.json")
+            for file_name, data in files.items():
+                with io.atomic_path(folder / file_name) as tmp:
+                    tmp.write_bytes(data)
+            io.write_text(folder / "index.html", html)
+            folders.write_provenance(
+                folder,
+                the_case,
+                command="report",
+                method=result.method,
+                frame=result.frame,
+                accuracy=result.accuracy,
+                **meta,
+            )
+    verdict = "stable over the sweep" if result.stability.stable else "unstable"
+    console.print(f"{plain(the_case.title)}: {verdict}.")
+    console.print(
+        f"Wrote {plain(out_dir)}/index.html ({', '.join(files)}, summary.json, case.toml, provenance.json)"
+    )

@@ -1,0 +1,276 @@
+"""Several analyses side by side: cases by methods, each against the first.
+
+An entry is one case analysed by one method (and the frame asked for). The
+first entry is the baseline; :meth:`Comparison.differences` gives, for every
+other entry, how its unstable rotor-speed ranges and its largest real part
+differ from the baseline's. Wiring only: every number comes from
+:func:`groundres.analysis.analyze` and :class:`groundres.stability.Stability`.
+
+Speeds are in rad/s and real parts in 1/s here (SI, the data contract); the
+command line and the figure speak the first case's unit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from .params import Case
+from .results import SweepResult
+
+#: What each quantity of :meth:`Comparison.differences` is, and its unit.
+QUANTITIES = {
+    "unstable_range_count": ("number of unstable ranges", "1"),
+    "unstable_width": ("total width of the unstable ranges", "rad/s"),
+    "range_start": ("start of an unstable range", "rad/s"),
+    "range_end": ("end of an unstable range", "rad/s"),
+    "max_real_part": ("largest real part over the sweep", "1/s"),
+    "max_real_part_speed": ("rotor speed of the largest real part", "rad/s"),
+}
+
+#: How ranges are paired, as the notes of the differences say.
+PAIRING_NOTE = (
+    "difference = entry - baseline; an entry's unstable ranges are paired with the baseline's "
+    "in speed order where they overlap; a range without a partner has no difference"
+)
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One analysis of a comparison.
+
+    Attributes
+    ----------
+    number : int
+        1-based; entry 1 is the baseline.
+    case_name : str
+        The case's name: its file's stem, the shipped name, or its title.
+    detail : str
+        The method and frame where the entries differ ("" where they do not).
+    case_index : int
+        0-based index of the entry's case among the cases compared.
+    method : str or None
+        The method asked for ("auto", "eigen", "floquet"; None: the case's own).
+    result : SweepResult
+    """
+
+    number: int
+    case_name: str
+    detail: str
+    case_index: int
+    method: str | None
+    result: SweepResult
+
+    @property
+    def case(self) -> Case:
+        return self.result.case
+
+    @property
+    def name(self) -> str:
+        """The case's name, with the method and frame in brackets where the entries differ."""
+        return f"{self.case_name} ({self.detail})" if self.detail else self.case_name
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Entries (cases by methods) analysed for comparison; the first is the baseline."""
+
+    entries: tuple[Entry, ...]
+
+    @property
+    def labels(self) -> list[str]:
+        """Every mode label of the entries, in order of first appearance."""
+        return list(dict.fromkeys(label for e in self.entries for label in e.result.labels))
+
+    def differences(self) -> list[dict]:
+        """Each entry against the baseline: a row per quantity.
+
+        Returns
+        -------
+        list of dict
+            Keys ``entry`` (number), ``name``, ``quantity`` (a key of
+            :data:`QUANTITIES`), ``range`` (1-based pair number for
+            ``range_start`` and ``range_end``, else None), ``unit``,
+            ``baseline``, ``value`` and ``difference`` (value - baseline;
+            None where either is missing, with the reason in ``note``).
+            An entry identical to the baseline gives differences of exactly 0.
+        """
+        base = self.entries[0].result
+        rows = []
+        for entry in self.entries[1:]:
+            rows += _rows(entry, base, entry.result)
+        return rows
+
+    def plot(
+        self,
+        fig=None,
+        show_damping_ratio: bool = False,
+        *,
+        speed_axis: str = "auto",
+        frequency_limits=None,
+        real_limits=None,
+        modes=None,
+    ):
+        """The entries' Coleman diagrams overlaid (a matplotlib Figure).
+
+        Options as :meth:`groundres.results.SweepResult.plot`; see
+        :func:`groundres.plotting.overlay.overlay_diagram`.
+        """
+        from .plotting.overlay import overlay_diagram
+
+        return overlay_diagram(
+            self,
+            fig,
+            show_damping_ratio,
+            speed_axis=speed_axis,
+            frequency_limits=frequency_limits,
+            real_limits=real_limits,
+            modes=modes,
+        )
+
+
+def compare(cases, methods=None, frame: str | None = None, progress=None) -> Comparison:
+    """Analyse every case by every method, for comparison with the first.
+
+    Parameters
+    ----------
+    cases : sequence of Case or str
+        Cases, or paths of case files or shipped case names.
+    methods : sequence of str, optional
+        "auto", "eigen" or "floquet" for each analysis of each case [default:
+        each case's own]. The entries are the cases by the methods, case by
+        case: (case 1, method 1), (case 1, method 2), ..., (case 2, method 1).
+    frame : str, optional
+        "nonrotating" or "rotating" for every entry [default: each case's own].
+    progress : callable, optional
+        ``progress(entry, stage, done, total)``: ``entry`` the 1-based number,
+        the rest as :func:`groundres.analysis.analyze` reports.
+
+    Returns
+    -------
+    Comparison
+
+    Raises
+    ------
+    ValueError
+        For fewer than two entries.
+
+    Examples
+    --------
+    >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
+    >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
+    """
+    from .analysis import analyze
+    from .config import load_case
+
+    cases = [c if isinstance(c, Case) else load_case(c) for c in cases]
+    methods = list(methods) if methods else [None]
+    if len(cases) * len(methods) < 2:
+        raise ValueError(
+            f"{len(cases)} case(s) by {len(methods)} method(s) make one entry: a comparison needs two or "
+            "more (give two cases, or two methods)"
+        )
+    done = []  # (case, method, result): an entry asked twice is analysed once (identical results)
+    plan = []
+    for k, case in enumerate(cases):
+        for method in methods:
+            number = len(plan) + 1
+            same = next((r for c, m, r in done if c == case and c.text == case.text and m == method), None)
+            if same is None:
+                report = progress and (lambda stage, d, t, number=number: progress(number, stage, d, t))
+                same = analyze(case, frame=frame, method=method, progress=report)
+                done.append((case, method, same))
+            plan.append((k, method, same))
+    details = _details([r for _, _, r in plan])
+    return Comparison(
+        tuple(
+            Entry(i + 1, case_name(cases[k]), detail, k, m, r)
+            for i, (detail, (k, m, r)) in enumerate(zip(details, plan))
+        )
+    )
+
+
+def case_name(case: Case) -> str:
+    """A short name of a case: its file's stem, the shipped case's name, or its title."""
+    return Path(case.source).stem if case.source else case.title
+
+
+def _details(results) -> list[str]:
+    """What tells the entries apart beyond their case: method and frame, where they differ."""
+    methods = {r.method for r in results}
+    frames = {r.frame for r in results}
+    return [
+        ", ".join(
+            ([r.method] if len(methods) > 1 else []) + ([f"{r.frame} frame"] if len(frames) > 1 else [])
+        )
+        for r in results
+    ]
+
+
+def _value(x):
+    """A count (int) or a float, or None where it is missing or not finite."""
+    if isinstance(x, int) or x is None:
+        return x
+    return float(x) if math.isfinite(x) else None
+
+
+def _row(entry, quantity, baseline, value, number=None, note=None) -> dict:
+    baseline, value = _value(baseline), _value(value)
+    row = {
+        "entry": entry.number,
+        "name": entry.name,
+        "quantity": quantity,
+        "range": number,
+        "unit": QUANTITIES[quantity][1],
+        "baseline": baseline,
+        "value": value,
+        "difference": None if baseline is None or value is None else value - baseline,
+        "note": note,
+    }
+    if row["difference"] is None and note is None:
+        row["note"] = "no finite value in the " + ("baseline" if baseline is None else "entry")
+    return row
+
+
+def pair_ranges(first, second):
+    """Pairs of overlapping ranges, in speed order: [(a or None, b or None), ...].
+
+    ``first`` and ``second`` are sorted lists of disjoint (start, end); a
+    range that overlaps none of the other list is paired with None.
+    """
+    pairs, i, j = [], 0, 0
+    while i < len(first) or j < len(second):
+        a = first[i] if i < len(first) else None
+        b = second[j] if j < len(second) else None
+        if a is not None and b is not None and a[0] <= b[1] and b[0] <= a[1]:
+            pairs.append((a, b))
+            i, j = i + 1, j + 1
+        elif b is None or (a is not None and a[1] < b[0]):
+            pairs.append((a, None))
+            i += 1
+        else:
+            pairs.append((None, b))
+            j += 1
+    return pairs
+
+
+def _rows(entry, base: SweepResult, other: SweepResult) -> list[dict]:
+    ranges_a, ranges_b = base.stability.unstable_ranges, other.stability.unstable_ranges
+    rows = [
+        _row(entry, "unstable_range_count", len(ranges_a), len(ranges_b)),
+        _row(
+            entry,
+            "unstable_width",
+            sum((e - s for s, e in ranges_a), 0.0),
+            sum((e - s for s, e in ranges_b), 0.0),
+        ),
+    ]
+    for k, (a, b) in enumerate(pair_ranges(ranges_a, ranges_b), start=1):
+        note = None if a and b else ("only in the baseline" if a else "only in this entry")
+        for i, quantity in enumerate(("range_start", "range_end")):
+            rows.append(_row(entry, quantity, a[i] if a else None, b[i] if b else None, number=k, note=note))
+    (va, wa), (vb, wb) = base.stability.max_real_part, other.stability.max_real_part
+    rows.append(_row(entry, "max_real_part", va, vb))
+    rows.append(_row(entry, "max_real_part_speed", wa, wb))
+    return rows

@@ -1,0 +1,251 @@
+"""Coleman diagrams of several analyses overlaid: one colour per entry.
+
+Frequency and real part (or damping ratio) against rotor speed, and a strip
+with each entry's unstable ranges. An entry is drawn in its colour, the
+baseline (entry 1) widest and faintest, each later entry narrower on top, so
+that lines that coincide show as a thin line inside a wider one. A mode keeps
+its line style in every entry (a marker too beyond six modes). Speeds are on
+one axis for all entries: the first case's unit, or divided by its reference
+speed (:func:`groundres.plotting.axes.speed_scale`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..params import FREQUENCY_UNITS, SPEED_UNITS
+from .axes import checked_limits, checked_modes, speed_scale
+from .titles import figure_title
+
+#: Colours of the entries, in order.
+ENTRY_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
+#: Line styles of the modes, in order; beyond them the same again with a marker.
+_MODE_DASHES = ["-", (0, (4, 2)), (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5))]
+_MODE_MARKERS = ["o", "s", "^", "D", "v", "P", "X"]
+#: A small unstable bump: the largest positive real part below this share of the span
+#: (as in the Coleman diagram) adds a panel of the real parts near zero.
+_SMALL_BUMP = 0.06
+#: Widest and narrowest line [pt] (the baseline, the last entry).
+_WIDEST, _NARROWEST = 4.0, 1.2
+
+
+def entry_colour(number: int) -> str:
+    """The colour of entry ``number`` (1-based)."""
+    return ENTRY_COLOURS[(number - 1) % len(ENTRY_COLOURS)]
+
+
+def _width(k: int, n: int) -> tuple[float, float]:
+    """Line width and opacity of the k-th (0-based) of n entries."""
+    share = k / (n - 1) if n > 1 else 1.0
+    return _WIDEST + (_NARROWEST - _WIDEST) * share, 0.45 + 0.55 * share
+
+
+def _mode_style(i: int) -> dict:
+    style = {"linestyle": _MODE_DASHES[i % len(_MODE_DASHES)]}
+    if i >= len(_MODE_DASHES):
+        style["marker"] = _MODE_MARKERS[(i // len(_MODE_DASHES) - 1) % len(_MODE_MARKERS)]
+    return style
+
+
+def _roots(ax, x, values, labels, shown, style):
+    """Each tracked root's real part, continuous, in the style of its mode's label at each speed.
+
+    values, labels : (n_s, n_e) real parts and label names; a root's line
+    changes style half-way between two speeds where its label changes, and
+    is left out where its mode is not shown.
+    """
+    n_s, n_e = values.shape
+    for c in range(n_e):
+        y, lab = values[:, c], labels[:, c]
+        start = 0
+        for s in [*(np.flatnonzero(lab[1:] != lab[:-1]) + 1), n_s]:
+            xs, ys = list(x[start:s]), list(y[start:s])
+            if start > 0:  # from half-way after the change
+                xs.insert(0, 0.5 * (x[start - 1] + x[start]))
+                ys.insert(0, 0.5 * (y[start - 1] + y[start]))
+            if s < n_s:  # to half-way before the next
+                xs.append(0.5 * (x[s - 1] + x[s]))
+                ys.append(0.5 * (y[s - 1] + y[s]))
+            if lab[start] in shown:
+                ax.plot(xs, ys, **style(shown.index(lab[start])))
+            start = s
+
+
+def _broken(x, y, moved):
+    """x, y with a gap (NaN) before every point flagged in ``moved`` (a frequency jump)."""
+    if moved is None or not moved[1:].any():
+        return x, y
+    at = np.flatnonzero(moved[1:]) + 1
+    return np.insert(x, at, np.nan), np.insert(y, at, np.nan)
+
+
+def overlay_diagram(
+    comparison,
+    fig=None,
+    show_damping_ratio=False,
+    *,
+    speed_axis="auto",
+    frequency_limits=None,
+    real_limits=None,
+    modes=None,
+):
+    """Draw the entries of a comparison on one Coleman diagram.
+
+    Parameters
+    ----------
+    comparison : groundres.comparison.Comparison
+    fig : matplotlib Figure, optional
+        Figure to draw in (three axes are added); a new one if None.
+    show_damping_ratio : bool
+        Damping ratio [-] instead of real part [1/s] in the lower panel.
+    speed_axis : {"auto", "unit", "normalised"}
+        "unit": the first case's unit; "normalised": divided by the first
+        case's reference speed (ValueError without one); "auto": normalised
+        where every case has the first case's reference, else its unit.
+    frequency_limits, real_limits : (float, float), optional
+        Ranges of the frequency axis (in its units as shown) and of the lower
+        panel (1/s, or the damping ratio).
+    modes : sequence of str, optional
+        Labels of the modes to draw (of any entry); the unstable ranges show
+        regardless.
+
+    Returns
+    -------
+    matplotlib Figure
+    """
+    entries = comparison.entries
+    results = [e.result for e in entries]
+    if frequency_limits is not None:
+        frequency_limits = checked_limits(frequency_limits, "frequency_limits")
+    if real_limits is not None:
+        real_limits = checked_limits(real_limits, "real_limits")
+    shown = checked_modes(modes, comparison.labels)
+    factor, unit = speed_scale(*results, kind=speed_axis)
+    n = len(entries)
+    grows = [r.stability.unstable_ranges for r in results]
+    lowers = [r.damping_ratio if show_damping_ratio else r.real_part for r in results]
+    columns = [[r.labels.index(lab) for lab in shown if lab in r.labels] for r in results]
+    finite = np.concatenate(
+        [lower[:, c][np.isfinite(lower[:, c])].ravel() for lower, c in zip(lowers, columns)]
+    )
+    span = float(finite.max() - finite.min()) if finite.size else 0.0
+    bump = max((float(r.real_part[:, c].max()) for r, c in zip(results, columns) if c), default=0.0)
+    zoom = (not show_damping_ratio) and real_limits is None and any(grows) and 0 < bump < _SMALL_BUMP * span
+    heights = [3, 2] + ([1.2] if zoom else []) + [0.35 + 0.22 * n]
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(11, 7.5 + 0.8 * zoom + 0.2 * n), layout="constrained")
+    axes = fig.subplots(len(heights), 1, sharex=True, height_ratios=heights)
+    ax_f, ax_d, ax_s = axes[0], axes[1], axes[-1]
+    ax_z = axes[2] if zoom else None
+    top, lo, hi = 1e-12, np.inf, -np.inf
+    for k, entry in enumerate(entries):
+        r = entry.result
+        colour = entry_colour(entry.number)
+        lw, alpha = _width(k, n)
+        w = r.rotor_speed / factor
+        lo, hi = min(lo, w[0]), max(hi, w[-1])
+        freq = r.frequency / factor
+        moved = r.modes.harmonic_change if r.frame == "nonrotating" else r.modes.harmonic_change_rotating
+        every = max(1, len(w) // 10)
+
+        def style(i, colour=colour, lw=lw, alpha=alpha, every=every):
+            return dict(_mode_style(i), color=colour, lw=lw, alpha=alpha, markevery=every, ms=2.5 + lw)
+
+        for i, label in enumerate(shown):
+            if label not in r.labels:
+                continue
+            j = r.labels.index(label)
+            ax_f.plot(*_broken(w, freq[:, j], moved[:, j]), **style(i))
+            if show_damping_ratio:
+                ax_d.plot(w, r.damping_ratio[:, j], **style(i))
+            if np.isfinite(freq[:, j]).any():
+                top = max(top, float(np.nanmax(freq[:, j])))
+        if not show_damping_ratio:  # every root, continuous (a mode's own real part jumps at exchanges)
+            labels = np.asarray(r.labels, dtype=object)[r.modes.root_label]
+            for ax in (ax_d, ax_z):
+                if ax is not None:
+                    _roots(ax, w, r.modes.root_real_part, labels, shown, style)
+        panels = (ax_f, ax_d) if ax_z is None else (ax_f, ax_d, ax_z)
+        for s, e in r.stability.unstable_ranges:
+            for ax in panels:
+                ax.axvspan(s / factor, e / factor, color=colour, alpha=0.07, lw=0)
+            row = n - k
+            ax_s.broken_barh([(s / factor, (e - s) / factor)], (row - 0.3, 0.6), color=colour)
+            ax_s.plot(
+                [0.5 * (s + e) / factor], [row], "|", color=colour, ms=9, mew=1.5
+            )  # (a narrow one shows)
+        if not r.stability.unstable_ranges:
+            ax_s.text(0.005, n - k, "stable", transform=ax_s.get_yaxis_transform(), va="center", color="0.4")
+    ends = np.array([lo, hi])
+    ax_f.plot(ends, ends, ":", color="0.45", lw=1.0)
+    ax_f.plot(ends, 2 * ends, ":", color="0.75", lw=1.0)
+    for ax in axes[1:-1]:
+        ax.axhline(0.0, color="0.3", lw=0.8)
+    if ax_z is not None:
+        ax_z.set_ylim(-2.0 * bump, 1.6 * bump)
+        ax_z.set_ylabel("near zero [1/s]")
+    ax_f.set_ylim(frequency_limits or (0, 1.05 * top))
+    if real_limits is not None:
+        ax_d.set_ylim(*real_limits)
+    ax_f.set_xlim(lo, hi) if hi > lo else ax_f.set_xlim(0.95 * lo - 1e-3, 1.05 * lo + 1e-3)
+    ax_s.set_ylim(0.4, n + 0.6)
+    ax_s.set_axisbelow(True)  # (the grid behind the bars)
+    ax_s.set_yticks(range(1, n + 1), [str(n + 1 - t) for t in range(1, n + 1)])
+    ax_s.set_ylabel("unstable\n(entry)")
+    _labels(ax_f, ax_d, ax_s, results, unit, show_damping_ratio)
+    for ax in axes:
+        ax.grid(True, color="0.9", lw=0.6)
+    ax_s.grid(False, axis="y")
+    ax_f.set_title(_title(entries), fontsize=10)
+    _legend(fig, entries, shown)
+    return fig
+
+
+def _labels(ax_f, ax_d, ax_s, results, unit, show_damping_ratio) -> None:
+    frames = {r.frame for r in results}
+    frame = f"{frames.pop()} frame" if len(frames) == 1 else "each entry's frame"
+    if unit == "-":
+        ax_f.set_ylabel(f"modal frequency, {frame} / reference [-]")
+        sweep = results[0].case.sweep
+        ref = sweep.reference / SPEED_UNITS[sweep.unit]
+        ax_s.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {sweep.unit}, entry 1's)")
+    else:
+        ax_f.set_ylabel(f"modal frequency, {frame} [{FREQUENCY_UNITS[unit]}]")
+        ax_s.set_xlabel(f"rotor speed [{unit}]")
+    ax_d.set_ylabel("damping ratio [-]" if show_damping_ratio else "real part (modal damping) [1/s]")
+
+
+def _title(entries) -> str:
+    titles = list(dict.fromkeys(e.case.title for e in entries))
+    first = (
+        figure_title(titles[0]) if len(titles) == 1 else f"Coleman diagrams of {len(titles)} cases compared"
+    )
+    return f"{first}\n{len(entries)} entries, entry 1 the baseline (widest line)"
+
+
+def _legend(fig, entries, shown) -> None:
+    from matplotlib.lines import Line2D
+
+    n = len(entries)
+    blank = Line2D([], [], ls="")
+    handles, labels = [blank], ["entries"]
+    for k, e in enumerate(entries):
+        lw, alpha = _width(k, n)
+        handles.append(Line2D([], [], color=entry_colour(e.number), lw=lw, alpha=alpha))
+        labels.append(f"{e.number}  {e.case_name}" + (f"\n    ({e.detail})" if e.detail else ""))
+    handles.append(blank)
+    labels.append("\nmodes")
+    for i, label in enumerate(shown):
+        handles.append(Line2D([], [], color="0.25", lw=1.6, ms=4, **_mode_style(i)))
+        labels.append(label)
+    handles += [
+        Line2D([], [], ls=":", color="0.45", lw=1.0),
+        Line2D([], [], ls=":", color="0.75", lw=1.0),
+    ]
+    labels += ["1/rev", "2/rev"]
+    legend = fig.legend(handles, labels, loc="outside right center", fontsize=9, frameon=False)
+    for text in legend.get_texts():
+        if text.get_text().strip() in ("entries", "modes"):
+            text.set_fontweight("bold")

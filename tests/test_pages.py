@@ -1,0 +1,288 @@
+"""HTML pages (groundres report, groundres gallery): valid, self-contained, and their numbers are the data's.
+
+Validity is checked with html5lib's strict parser (the WHATWG parsing
+algorithm; strict mode raises on every parse error), self-containment by
+every src and href of the page (data: URIs and in-page anchors only), and
+the numbers by every ``data-key``/``data-value`` pair: the value must be the
+one at that place of summary.json (report) or gallery.json (gallery), exactly.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+from types import SimpleNamespace
+
+import html5lib
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from groundres.cli import main
+from groundres.config import load_case
+from groundres.pages import gallery, verdicts
+
+
+def cli(*args):
+    return CliRunner().invoke(main, list(args))
+
+
+class _Collect(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.links, self.numbers, self.ids, self.sections = [], [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        for name in ("src", "href"):
+            if name in a:
+                self.links.append(a[name])
+        if "data-key" in a:
+            self.numbers.append((a["data-key"], a["data-value"]))
+        if "id" in a:
+            self.ids.append(a["id"])
+        if tag == "section":
+            self.sections.append(a.get("id"))
+        if tag in ("link", "script", "iframe", "object", "embed"):
+            self.links.append(f"<{tag}>")
+
+
+def page_facts(path) -> _Collect:
+    text = path.read_text(encoding="utf-8")
+    html5lib.HTMLParser(strict=True).parse(text)  # raises on any parse error
+    facts = _Collect()
+    facts.feed(text)
+    return facts
+
+
+def at(data, key: str):
+    for part in key.split("."):
+        data = data[int(part)] if isinstance(data, list) else data[part]
+    return data
+
+
+def check_self_contained(facts: _Collect) -> None:
+    for link in facts.links:
+        assert link.startswith(("data:", "#")), f"external or linked resource in the page: {link[:80]}"
+    for link in facts.links:
+        if link.startswith("#"):
+            assert link[1:] in facts.ids, f"anchor {link} has no target"
+
+
+def check_numbers(facts: _Collect, data: dict) -> int:
+    assert facts.numbers
+    for key, value in facts.numbers:
+        expected = at(data, key)
+        if value == "null":
+            assert expected is None, key
+        else:
+            assert float(value) == expected, (key, value, expected)
+    return len(facts.numbers)
+
+
+SMALL = """
+title = "Small <b>case</b> & friends"
+description = "A short sweep of the Hammond rotor with one failed damper, for the tests."
+[rotor]
+blades = 4
+hinge_offset = 0.3048
+blade_mass = 94.9
+blade_static_moment = 289.1
+blade_inertia = 1084.7
+lag_damping = 4067.5
+[[rotor.blade]]
+index = 1
+lag_damping = 0.0
+[body]
+dofs = ["x", "y"]
+mass_x = 8026.6
+mass_y = 3283.6
+stiffness_x = 1240481.8
+stiffness_y = 1240481.8
+damping_x = 51078.7
+damping_y = 25539.35
+[sweep]
+start = 120.0
+stop = 360.0
+points = 50
+unit = "rpm"
+reference = 155.0
+"""
+
+
+@pytest.mark.parametrize("method", ["floquet", "eigen"])
+def test_report_is_valid_self_contained_and_its_numbers_are_summary_json(tmp_path, method):
+    """One failed damper on the anisotropic hub (Floquet) and the same rotor with identical blades
+    (eigen): both reports hold every section, and every number is summary.json's."""
+    text = SMALL if method == "floquet" else SMALL.replace("lag_damping = 0.0", "lag_damping = 4067.5")
+    case = tmp_path / "small.toml"
+    case.write_text(text)
+    out = tmp_path / "report"
+    res = cli("report", str(case), "--out", str(out))
+    assert res.exit_code == 0, res.output
+    facts = page_facts(out / "index.html")
+    check_self_contained(facts)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["method"] == ("floquet" if method == "floquet" else "multiblade-eigen")
+    n = check_numbers(facts, summary)
+    assert n >= 10
+    keys = {k for k, _ in facts.numbers}
+    assert {"lag_damping.deutsch.0.required_lag_damping", "lag_frequency_at_reference.value"} <= keys
+    for section in ("ranges", "coleman", "derived", "damping", "phasors", "case", "method"):
+        assert section in facts.sections
+    page = (out / "index.html").read_text()
+    assert "<b>case</b>" not in page and "Small &lt;b&gt;case&lt;/b&gt; &amp; friends" in page  # escaped
+    assert "@media print" in page
+    assert (out / "coleman.png").read_bytes()[:4] == b"\x89PNG"
+    if method == "floquet":
+        assert summary["unstable_ranges"] and "unstable_ranges.0.start" in keys
+        assert "Floquet exponents" in page  # the accuracy record of the periodic method
+    else:
+        assert summary["stable"]
+
+
+def test_report_svg_and_a_study_folder(tmp_path):
+    """--format svg embeds and writes svg; --study embeds the study's map and names what it varied."""
+    import xarray as xr
+
+    study = tmp_path / "study"
+    study.mkdir()
+    ds = xr.Dataset(
+        {"stable": (("rotor.lag_damping",), np.array([0, 1, 1]))},
+        coords={"rotor.lag_damping": [1000.0, 2000.0, 3000.0]},
+    )
+    ds.to_netcdf(study / "study.nc")
+    (study / "case.toml").write_text(SMALL.replace("lag_damping = 0.0", "lag_damping = 4067.5"))
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    fig.subplots().plot([0, 1], [1, 0])
+    fig.savefig(study / "map.png")
+    out = tmp_path / "report"
+    res = cli("report", "--study", str(study), "--out", str(out), "--format", "svg")
+    assert res.exit_code == 0, res.output
+    facts = page_facts(out / "index.html")
+    check_self_contained(facts)
+    assert "study" in facts.sections
+    page = (out / "index.html").read_text()
+    assert "data:image/svg+xml;base64," in page and "2 of 3" in page
+    assert (out / "coleman.svg").read_bytes().lstrip()[:5] in (b"<?xml", b"<svg ")
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["--study", "nowhere"], "--study 'nowhere': not a folder"),
+        (["hammond-1974", "--format", "bmp"], "--format"),
+    ],
+)
+def test_report_bad_options_exit_2(tmp_path, args, words):
+    res = cli("report", *args, "--out", str(tmp_path / "r"))
+    assert res.exit_code == 2
+    assert words in res.output
+    assert "Traceback" not in res.output
+    assert not (tmp_path / "r").exists()
+
+
+def test_gallery_bad_figures_exit_2(tmp_path):
+    for value in ("2", "3-14", "x", "5-3", ""):
+        res = cli("gallery", "--figures", value, "--out", str(tmp_path / "g"))
+        assert res.exit_code == 2, (value, res.output)
+        assert "--figures" in res.output and "from 3 to 13" in res.output
+        assert not (tmp_path / "g").exists()
+
+
+def _stub(ranges, reference=1.0, start=0.1, stop=3.0):
+    sweep = SimpleNamespace(reference=reference, start=start, stop=stop)
+    return SimpleNamespace(
+        case=SimpleNamespace(sweep=sweep),
+        stability=SimpleNamespace(unstable_ranges=[(s * reference, e * reference) for s, e in ranges]),
+    )
+
+
+def test_verdicts_of_ranges():
+    """The verdict's rules: within the tolerance agrees; same count beyond it agrees in kind;
+    another count, or unstable where the paper says stable, differs."""
+    t = verdicts.RANGE_TOLERANCE
+    assert verdicts.compare_ranges(((0.85, 1.2),), _stub([(0.85 + 0.9 * t, 1.2)])).word == "agrees"
+    assert verdicts.compare_ranges(((0.85, 1.2),), _stub([(0.85 + 1.1 * t, 1.2)])).word == "agrees in kind"
+    assert verdicts.compare_ranges(((0.85, 1.2), (1.3, 2)), _stub([(0.85, 1.2)])).word == "differs"
+    assert verdicts.compare_ranges((), _stub([])).word == "agrees"
+    assert verdicts.compare_ranges((), _stub([(1, 2)])).word == "differs"
+
+
+def test_phasor_verdict_rules():
+    cell = dict(speed_text="", mode="regressive lag", placed=True)
+    good = [
+        dict(cell, where="below", state="neutral", in_phase=1e-16),
+        dict(cell, where="inside", state="growing", in_phase=0.1),
+        dict(cell, where="above", state="neutral", in_phase=1e-15),
+    ]
+    assert verdicts.phasor_verdict(good).word == "agrees"
+    bad = [dict(good[0], in_phase=0.01), *good[1:]]
+    assert verdicts.phasor_verdict(bad).word == "differs"
+    misplaced = [good[0], dict(good[1], placed=False), good[2]]
+    assert verdicts.phasor_verdict(misplaced).word == "differs"
+
+
+def test_smeared_case_averages_the_dampers():
+    case = load_case("hammond-1974-one-damper")
+    smeared, mean = verdicts.smeared_case(case)
+    assert mean == pytest.approx(0.75 * 4067.5, rel=1e-15)
+    assert smeared.rotor.identical
+    assert all(b.lag_damping == mean for b in smeared.rotor.blades)
+
+
+def test_every_figure_has_a_shipped_case_and_phasor_speeds_in_its_unit():
+    from groundres.config import shipped_cases
+
+    assert gallery.NUMBERS == tuple(range(3, 14))
+    for f in gallery.FIGURES:
+        assert f.case in shipped_cases()
+        assert (len(f.speeds) == 3) == (f.kind == "phasors")
+        if f.ranges is not None:
+            assert all(0 < s < e for s, e in f.ranges)
+
+
+def test_gallery_whole(tmp_path):
+    """The whole gallery (about 20 s): every figure with a verdict and its pictures, the page valid and
+    self-contained, its numbers gallery.json's; the figures whose parameters the paper gives agree, and
+    the Floquet analysis of Figure 9 equals the eigen-analysis of Figure 8 to round-off."""
+    out = tmp_path / "gallery"
+    res = cli("gallery", "--out", str(out))
+    assert res.exit_code == 0, res.output
+    facts = page_facts(out / "index.html")
+    check_self_contained(facts)
+    data = json.loads((out / "gallery.json").read_text())
+    check_numbers(facts, data)
+    figures = {f["number"]: f for f in data["figures"]}
+    assert sorted(figures) == list(range(3, 14))
+    for n, f in figures.items():
+        assert f["verdict"] in ("agrees", "agrees in kind", "differs")
+        assert f["reason"] and f["computed"]
+        assert f"figure-{n}" in facts.ids
+    names = {p.name for p in out.iterdir()}
+    for n in range(3, 11):
+        assert {f"figure-{n:02d}-coleman-nonrotating.png", f"figure-{n:02d}-coleman-rotating.png"} <= names
+    for n in range(11, 14):
+        assert {f"figure-{n}-phasors-{w}.png" for w in ("below", "inside", "above")} <= names
+    for n in (3, 5, 6, 7, 11, 12, 13):
+        assert figures[n]["verdict"] == "agrees", (n, figures[n]["reason"])
+    # Figure 3: the paper's two ranges, 0.85-1.2 and 1.3-2.0 times 155 rpm (read off its plot)
+    ref = figures[3]["summary"]["sweep"]["reference"]
+    ends = [(r["start"] / ref, r["end"] / ref) for r in figures[3]["summary"]["unstable_ranges"]]
+    assert np.allclose(ends, [(0.85, 1.2), (1.3, 2.0)], atol=verdicts.RANGE_TOLERANCE)
+    assert figures[9]["eigen_range_difference"] < 1e-6 * ref
+    assert math.isclose(
+        figures[8]["summary"]["unstable_ranges"][0]["start"],
+        figures[9]["summary"]["unstable_ranges"][0]["start"],
+        rel_tol=1e-7,
+    )
+    assert "stable over the whole sweep" in figures[10]["computed"]  # the smeared approximation misses it
+    # docs/gallery.md shows this version's verdicts (docs/make_gallery_images.py writes its table)
+    text = (Path(__file__).parents[1] / "docs" / "gallery.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+) \| `([^`]+)` \| .* \| (agrees in kind|agrees|differs) \|$", text, re.M)
+    assert {int(n): (c, v) for n, c, v in rows} == {n: (f["case"], f["verdict"]) for n, f in figures.items()}
