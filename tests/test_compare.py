@@ -8,6 +8,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from click.testing import CliRunner  # noqa: E402
 
@@ -54,9 +55,12 @@ def test_a_case_compared_with_itself_differs_by_exactly_zero(tmp_path):
     for r in rows:
         assert r["difference"] == 0 and r["baseline"] == r["value"] is not None, r
     csv_rows = (out / "differences.csv").read_text().splitlines()
-    assert csv_rows[0] == "entry,name,quantity,range,unit,baseline,value,difference,note"
+    assert csv_rows[0] == (
+        "entry,name,quantity,range,unit,baseline,value,difference,note,tolerance,within_round_off"
+    )
     assert len(csv_rows) == 1 + len(rows)
     assert {line.split(",")[7] for line in csv_rows[1:]} <= {"0", "0.0"}
+    assert {line.split(",")[-1] for line in csv_rows[1:]} == {"true"}
     # every number the table shows as a difference is 0
     table = result.output.split("Differences from the baseline")[1].split("Speeds in")[0]
     lines = [line.split() for line in table.splitlines() if line.startswith("2 ")]
@@ -88,6 +92,28 @@ def test_an_entry_asked_twice_is_analysed_once():
     assert all(r["difference"] == 0 for r in comparison.differences())
 
 
+@pytest.mark.parametrize(
+    "name, method",
+    [("hammond-undamped", None), ("hammond-one-damper-isotropic", "floquet")],
+)
+def test_a_copy_of_a_case_is_analysed_again_and_differs_by_exactly_zero(tmp_path, name, method):
+    """A shipped case against its text with a comment added: another case text, so
+    analysed a second time, from a fresh system (no result or grid shared). The
+    computation is deterministic, threads or not, so every difference is exactly zero,
+    not merely round-off: by eigen-analysis, and by Floquet theory (transition matrices
+    integrated over the pool's threads)."""
+    copy = write(tmp_path, "copy.toml", "# the same case, another text\n" + shipped_cases()[name])
+    comparison = groundres.compare([name, str(copy)], methods=[method] if method else None)
+    first, second = (e.result for e in comparison.entries)
+    assert first is not second and first.case.text != second.case.text  # (analysed twice)
+    rows = comparison.differences()
+    assert any(r["quantity"] == "range_start" for r in rows)
+    for r in rows:
+        assert r["baseline"] is not None and r["difference"] == 0, r
+    for quantity in ("real_part", "frequency", "rotor_speed"):
+        assert np.array_equal(getattr(first, quantity), getattr(second, quantity), equal_nan=True)
+
+
 def test_eigen_and_floquet_agree_on_the_isotropic_one_damper_case(tmp_path):
     """The seed paper's Figures 8 and 9: one case by rotating-axes eigen-analysis and by
     Floquet theory. Both find the range ends by root finding on the growth threshold,
@@ -109,6 +135,15 @@ def test_eigen_and_floquet_agree_on_the_isotropic_one_damper_case(tmp_path):
     ]
     rows = {(r["quantity"], r.get("range")): r for r in data["differences"]}
     assert rows["unstable_range_count", None]["difference"] == 0
+    # the differences are round-off: kept as computed, flagged, never printed as results
+    assert {r["within_round_off"] for r in rows.values()} == {True}
+    assert all(0 <= r["tolerance"] for r in rows.values())
+    assert rows["range_start", 1]["difference"] != 0  # (two methods: round-off, not exact)
+    assert set(data["round_off"]["tolerance"]) == set(data["quantities"])
+    assert data["round_off"]["speed_relative"] == 1e-7
+    table = result.output.split("Differences from the baseline")[1].split("Speeds in")[0]
+    assert "e-" not in table and table.count("0 (round-off)") == len(rows) - 1
+    assert "0 (round-off): a difference within the round-off" in " ".join(result.output.split())
     for key in (("range_start", 1), ("range_end", 1), ("unstable_width", None)):
         r = rows[key]
         assert abs(r["difference"]) <= 1e-8 * r["baseline"], r
@@ -118,6 +153,7 @@ def test_eigen_and_floquet_agree_on_the_isotropic_one_damper_case(tmp_path):
     # the range in the paper's terms: 1.013 to 1.295 times 155 rpm
     assert "(1.013 ref)" in result.output and "(1.295 ref)" in result.output
     assert "range 1 start [rpm]" in result.output
+    assert "ref: rotor speed / the first case's reference speed, 155 rpm." in " ".join(result.output.split())
 
 
 def test_cases_in_different_units_share_the_first_case_s_unit(tmp_path):
@@ -136,6 +172,39 @@ def test_cases_in_different_units_share_the_first_case_s_unit(tmp_path):
     fig = comparison.plot()
     assert fig.axes[-1].get_xlabel() == "rotor speed [rad/s]"  # no shared reference: the unit
     assert "reference" in groundres.compare([str(rpm), str(rpm)]).plot().axes[-1].get_xlabel()
+
+
+def test_neutral_largest_real_parts_print_as_neutral_not_as_numbers(tmp_path):
+    """An undamped stable rotor: its largest real part is round-off (~1e-15 1/s) by
+    either method, and where it peaks is no result; the table says so in words."""
+    case = write(
+        tmp_path, "stiff.toml", shipped_cases()["stiff-inplane"].replace("points = 400", "points = 40")
+    )
+    out = tmp_path / "out"
+    result = run("compare", case, "--method", "eigen", "--method", "floquet", "--out", out)
+    assert result.exit_code == 0, result.output
+    rows = {r["quantity"]: r for r in json.loads((out / "differences.json").read_text())["differences"]}
+    peak, speed = rows["max_real_part"], rows["max_real_part_speed"]
+    assert abs(peak["baseline"]) < 1e-9 and peak["within_round_off"] is True
+    assert speed["within_round_off"] is True and "neutral" in speed["note"]
+    table = result.output.split("Differences from the baseline")[1].split("Speeds in")[0]
+    assert "e-" not in table
+    peak_line, speed_line = (
+        next(line.split() for line in table.splitlines() if q in line) for q in ("largest", "at [")
+    )
+    assert peak_line[-4:] == ["neutral", "neutral", "0", "(round-off)"]
+    assert speed_line[-4:] == ["-", "-", "-", "(neutral)"]
+    assert "neutral: the largest real part within the growth threshold" in " ".join(result.output.split())
+
+
+def test_ref_is_the_first_case_s_reference_for_every_entry(tmp_path):
+    first = write(tmp_path, "a.toml", UNDAMPED)
+    second = write(tmp_path, "b.toml", UNDAMPED.replace("reference = 155.0", "reference = 170.0"))
+    result = run("compare", first, second, "--out", tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "ref: rotor speed / the first case's reference speed, 155 rpm, for every entry" in text
+    assert "the case's reference" not in text
 
 
 def test_a_range_without_a_partner_has_no_difference():

@@ -10,6 +10,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from click.testing import CliRunner  # noqa: E402
+from matplotlib import cbook  # noqa: E402
 
 import groundres  # noqa: E402
 from conftest import HAMMOND_TOML  # noqa: E402
@@ -17,6 +18,7 @@ from groundres.cli import main  # noqa: E402
 from groundres.cli.plotoptions import SPEED_AXES  # noqa: E402
 from groundres.config import shipped_cases  # noqa: E402
 from groundres.plotting import axes, coleman  # noqa: E402
+from groundres.plotting.titles import figure_title  # noqa: E402
 
 #: Figure 3's case (two unstable ranges, a reference speed) on 40 speeds: fast.
 UNDAMPED = shipped_cases()["hammond-undamped"].replace("points = 400", "points = 40")
@@ -187,3 +189,29 @@ def test_the_overlay_takes_the_same_options(undamped):
 
 def test_the_command_line_offers_the_plot_module_s_speed_axes():
     assert SPEED_AXES == axes.SPEED_AXES
+
+
+#: A title matplotlib would read as mathtext between its dollars, and fail on
+#: (an unknown command, a lone superscript): shown as typed instead.
+DOLLAR_TITLE = r"Rotor $\frac{1}{2}$ test at $\foo$, cost $5 and $^$"
+
+
+def test_a_title_or_name_with_dollar_signs_shows_as_typed(tmp_path):
+    text = run("cases", "hammond-1974").output
+    assert text.startswith("title = ") and "points = 400\n" in text
+    text = f"title = '{DOLLAR_TITLE}'" + text[text.index("\n") :]
+    text = text.replace("points = 400", "points = 20")
+    assert tomllib.loads(text)["title"] == DOLLAR_TITLE and tomllib.loads(text)["sweep"]["points"] == 20
+    path = case_file(tmp_path, text, name=r"rotor $x$ $\foo$.toml")
+    out = tmp_path / "out"
+    result = run("run", path, "--out", out)
+    assert result.exit_code == 0, result.output
+    assert (out / "coleman.png").read_bytes().startswith(MAGIC["png"][0])
+    shown = figure_title(DOLLAR_TITLE)
+    assert not cbook.is_math_text(shown) and shown.replace(r"\$", "$") == DOLLAR_TITLE
+    # the overlay: the case's title, and its file's stem in the legend
+    result = run("compare", path, path, "--out", tmp_path / "compare")
+    assert result.exit_code == 0, result.output
+    fig = groundres.compare([str(path), str(path)]).plot()
+    assert not any(cbook.is_math_text(t) for t in legend_texts(fig))
+    assert any(t.replace(r"\$", "$").endswith(r"rotor $x$ $\foo$") for t in legend_texts(fig))

@@ -8,6 +8,11 @@ differ from the baseline's. Wiring only: every number comes from
 
 Speeds are in rad/s and real parts in 1/s here (SI, the data contract); the
 command line and the figure speak the first case's unit.
+
+Round-off is never a result: every difference carries the tolerance below
+which it is round-off (:data:`ROUND_OFF`), derived from how each quantity is
+computed. The numbers stay as computed; the command line prints a difference
+within its tolerance as "0 (round-off)".
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from pathlib import Path
 
 from .params import Case
 from .results import SweepResult
+from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 
 #: What each quantity of :meth:`Comparison.differences` is, and its unit.
 QUANTITIES = {
@@ -28,6 +34,44 @@ QUANTITIES = {
     "max_real_part": ("largest real part over the sweep", "1/s"),
     "max_real_part_speed": ("rotor speed of the largest real part", "rad/s"),
 }
+
+#: Round-off of a range end, relative to the speed [-]. An end is the root of
+#: (largest real part - growth threshold) in speed, found by Brent's method to
+#: 1e-12 rad/s + 1e-10 of the speed (:func:`groundres.scan.crossing`). An error e
+#: in the real part moves the end by e / slope: with roots accurate to ~1e-9 of
+#: their size ``abs(eigenvalue)`` (Floquet, transition tolerance 5e-11 per entry,
+#: :mod:`groundres.transition`; eigen-analysis better) and the slopes at the ends
+#: of the shipped cases (0.02 to 2 1/s per rad/s), at most ~6e-8 of the speed.
+#: Measured: eigen and Floquet ends of hammond-one-damper-isotropic agree to 4e-12.
+SPEED_ROUND_OFF = 1e-7
+#: Round-off of the speed of the largest real part, relative [-]: the argument of
+#: a flat maximum, found by bounded Brent to 1e-6 of the bracket's upper speed
+#: (:mod:`groundres.stability`); a value error d moves it by a further
+#: ``sqrt(2 d / abs(f''))``. Ten times the search tolerance.
+PEAK_SPEED_ROUND_OFF = 1e-5
+
+#: The tolerance of each quantity, as differences.json states it.
+ROUND_OFF = {
+    "unstable_range_count": "0 (a count)",
+    "unstable_width": f"{SPEED_ROUND_OFF:g} x the sum of the ends of the ranges (the larger of the two sums)",
+    "range_start": f"{SPEED_ROUND_OFF:g} x the larger of the two speeds",
+    "range_end": f"{SPEED_ROUND_OFF:g} x the larger of the two speeds",
+    "max_real_part": (
+        f"the growth threshold at the larger of the two speeds: {GROWTH_PER_RADIAN:g} 1/s per rad/s "
+        f"+ {GROWTH_FLOOR:g} 1/s (below it a real part is neutral, round-off; where both are neutral "
+        "the difference is round-off whatever its size)"
+    ),
+    "max_real_part_speed": (
+        f"{PEAK_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat maximum, "
+        "found to 1e-6 relative); where a largest real part is neutral its speed is no result"
+    ),
+}
+
+#: What differences.json says of the tolerances.
+ROUND_OFF_NOTE = (
+    "within_round_off is true where |difference| <= tolerance (in the row's unit): the difference "
+    "is round-off of the computation, not a result; the numbers are kept as computed"
+)
 
 #: How ranges are paired, as the notes of the differences say.
 PAIRING_NOTE = (
@@ -92,9 +136,12 @@ class Comparison:
             Keys ``entry`` (number), ``name``, ``quantity`` (a key of
             :data:`QUANTITIES`), ``range`` (1-based pair number for
             ``range_start`` and ``range_end``, else None), ``unit``,
-            ``baseline``, ``value`` and ``difference`` (value - baseline;
-            None where either is missing, with the reason in ``note``).
-            An entry identical to the baseline gives differences of exactly 0.
+            ``baseline``, ``value``, ``difference`` (value - baseline;
+            None where either is missing, with the reason in ``note``),
+            ``tolerance`` (the difference's round-off, in ``unit``:
+            :data:`ROUND_OFF`) and ``within_round_off`` (bool; None without
+            a difference). An entry identical to the baseline gives
+            differences of exactly 0.
         """
         base = self.entries[0].result
         rows = []
@@ -215,8 +262,17 @@ def _value(x):
     return float(x) if math.isfinite(x) else None
 
 
-def _row(entry, quantity, baseline, value, number=None, note=None) -> dict:
+def neutral_max(result: SweepResult) -> bool:
+    """Whether the largest real part of ``result`` is neutral: within the growth
+    threshold of zero at its speed (round-off, neither growth nor decay)."""
+    value, speed = (_value(x) for x in result.stability.max_real_part)
+    return value is not None and speed is not None and bool(is_neutral(value, speed))
+
+
+def _row(entry, quantity, baseline, value, tolerance, number=None, note=None, round_off=False) -> dict:
+    """A row of the differences; ``round_off``: the difference is round-off whatever its size."""
     baseline, value = _value(baseline), _value(value)
+    difference = None if baseline is None or value is None else value - baseline
     row = {
         "entry": entry.number,
         "name": entry.name,
@@ -225,12 +281,19 @@ def _row(entry, quantity, baseline, value, number=None, note=None) -> dict:
         "unit": QUANTITIES[quantity][1],
         "baseline": baseline,
         "value": value,
-        "difference": None if baseline is None or value is None else value - baseline,
+        "difference": difference,
+        "tolerance": None if difference is None else tolerance,
+        "within_round_off": None if difference is None else bool(round_off or abs(difference) <= tolerance),
         "note": note,
     }
-    if row["difference"] is None and note is None:
+    if difference is None and note is None:
         row["note"] = "no finite value in the " + ("baseline" if baseline is None else "entry")
     return row
+
+
+def _largest(*speeds) -> float:
+    """The largest finite speed given (0 for none)."""
+    return max((abs(w) for w in speeds if w is not None and math.isfinite(w)), default=0.0)
 
 
 def pair_ranges(first, second):
@@ -257,20 +320,33 @@ def pair_ranges(first, second):
 
 def _rows(entry, base: SweepResult, other: SweepResult) -> list[dict]:
     ranges_a, ranges_b = base.stability.unstable_ranges, other.stability.unstable_ranges
+    ends = max(sum(abs(s) + abs(e) for s, e in ranges) for ranges in (ranges_a, ranges_b))  # (width's ends)
     rows = [
-        _row(entry, "unstable_range_count", len(ranges_a), len(ranges_b)),
+        _row(entry, "unstable_range_count", len(ranges_a), len(ranges_b), 0),
         _row(
             entry,
             "unstable_width",
             sum((e - s for s, e in ranges_a), 0.0),
             sum((e - s for s, e in ranges_b), 0.0),
+            SPEED_ROUND_OFF * ends,
         ),
     ]
     for k, (a, b) in enumerate(pair_ranges(ranges_a, ranges_b), start=1):
         note = None if a and b else ("only in the baseline" if a else "only in this entry")
         for i, quantity in enumerate(("range_start", "range_end")):
-            rows.append(_row(entry, quantity, a[i] if a else None, b[i] if b else None, number=k, note=note))
+            wa, wb = a[i] if a else None, b[i] if b else None
+            tol = SPEED_ROUND_OFF * _largest(wa, wb)
+            rows.append(_row(entry, quantity, wa, wb, tol, number=k, note=note))
     (va, wa), (vb, wb) = base.stability.max_real_part, other.stability.max_real_part
-    rows.append(_row(entry, "max_real_part", va, vb))
-    rows.append(_row(entry, "max_real_part_speed", wa, wb))
+    neutral = neutral_max(base), neutral_max(other)
+    threshold = float(growth_threshold(_largest(wa, wb)))
+    rows.append(_row(entry, "max_real_part", va, vb, threshold, round_off=all(neutral)))
+    note = None
+    if all(neutral):
+        note = "both largest real parts are neutral (round-off): where they peak is no result"
+    elif any(neutral):
+        which = "the baseline's" if neutral[0] else "this entry's"
+        note = f"{which} largest real part is neutral (round-off): where it peaks is no result"
+    tol = PEAK_SPEED_ROUND_OFF * _largest(wa, wb)
+    rows.append(_row(entry, "max_real_part_speed", wa, wb, tol, note=note, round_off=all(neutral)))
     return rows

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from ..readout import fmt_frequency, fmt_speed, ref_note  # noqa: F401  (the commands' speed text)
+
 DEFAULT_CASE = "hammond-undamped"
 
 
@@ -212,32 +214,6 @@ class Steps:
             self(stage, 1, 1)
 
         return block()
-
-
-def fmt_speed(w, sweep, digits: int = 5, ref: bool = True, unit: bool = True, sep: str = " "):
-    """A speed [rad/s] in the case's unit (``unit``: its name too), with its ratio
-    to the reference ("ref") after ``sep``."""
-    from ..params import SPEED_UNITS
-
-    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g}" + (f" {sweep.unit}" if unit else "")
-    if ref and sweep.reference:
-        text += f"{sep}({w / sweep.reference:.4g} ref)"
-    return text
-
-
-def fmt_frequency(w, sweep, digits: int = 4):
-    """A frequency [rad/s] in the case's unit (cycles/min for rpm), rad/s beside it."""
-    from ..params import FREQUENCY_UNITS, SPEED_UNITS
-
-    text = f"{w / SPEED_UNITS[sweep.unit]:.{digits}g} {FREQUENCY_UNITS[sweep.unit]}"
-    return text if sweep.unit == "rad/s" else f"{text} ({w:.{digits}g} rad/s)"
-
-
-def ref_note(sweep) -> str | None:
-    """The line that explains "ref" once, or None without a reference speed."""
-    if not sweep.reference:
-        return None
-    return f"ref: rotor speed / the case's reference speed, {fmt_speed(sweep.reference, sweep, ref=False)}."
 
 
 def plain(text) -> str:

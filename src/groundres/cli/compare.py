@@ -18,13 +18,24 @@ from .common import (
     out_option,
     output_dir,
     plain,
-    ref_note,
 )
 from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
 from .run import STAGES, warm_plotting
 
-#: The columns of differences.csv (speeds in rad/s, real parts in 1/s).
-CSV_HEADER = ["entry", "name", "quantity", "range", "unit", "baseline", "value", "difference", "note"]
+#: The columns of differences.csv (speeds in rad/s, real parts in 1/s; tolerance in the row's unit).
+CSV_HEADER = [
+    "entry",
+    "name",
+    "quantity",
+    "range",
+    "unit",
+    "baseline",
+    "value",
+    "difference",
+    "note",
+    "tolerance",
+    "within_round_off",
+]
 
 
 @click.command("compare")
@@ -57,11 +68,12 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
     by two methods (groundres compare hammond-one-damper-isotropic --method
     eigen --method floquet). Prints, and writes as differences.csv and
     differences.json, how each entry's unstable ranges and largest real part
-    differ from the baseline's (data files in rad/s and 1/s; the table in the
-    first case's unit). Also writes compare.<format> (png unless --format
-    says), summary-<n>.json for entry n, case.toml (the first case),
-    case-<k>.toml (the k-th CASE) and provenance.json into --out, replacing
-    the folder whole.
+    differ from the baseline's (data files in rad/s and 1/s, as computed, with
+    each difference's round-off tolerance; the table in the first case's unit,
+    a difference within its tolerance as "0 (round-off)"). Also writes
+    compare.<format> (png unless --format says), summary-<n>.json for entry n,
+    case.toml (the first case), case-<k>.toml (the k-th CASE) and
+    provenance.json into --out, replacing the folder whole.
     """
     from .. import folders, io
     from ..comparison import compare
@@ -140,13 +152,23 @@ def _csv_row(row: dict) -> list:
     def cell(v):
         if v is None:
             return ""
+        if isinstance(v, bool):
+            return "true" if v else "false"
         return repr(v + 0.0) if isinstance(v, float) else v
 
     return [cell(row[key]) for key in CSV_HEADER]
 
 
 def _json(comparison, rows) -> dict:
-    from ..comparison import PAIRING_NOTE, QUANTITIES
+    from ..comparison import (
+        PAIRING_NOTE,
+        PEAK_SPEED_ROUND_OFF,
+        QUANTITIES,
+        ROUND_OFF,
+        ROUND_OFF_NOTE,
+        SPEED_ROUND_OFF,
+    )
+    from ..stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 
     return {
         "baseline": 1,
@@ -157,6 +179,14 @@ def _json(comparison, rows) -> dict:
         ],
         "quantities": {key: {"meaning": m, "unit": u} for key, (m, u) in QUANTITIES.items()},
         "note": PAIRING_NOTE,
+        "round_off": {
+            "note": ROUND_OFF_NOTE,
+            "tolerance": dict(ROUND_OFF),
+            "speed_relative": SPEED_ROUND_OFF,
+            "peak_speed_relative": PEAK_SPEED_ROUND_OFF,
+            "growth_threshold_per_radian": GROWTH_PER_RADIAN,
+            "growth_threshold_floor": GROWTH_FLOOR,
+        },
         "differences": [
             {k: v for k, v in r.items() if v is not None or k not in ("range", "note")} for r in rows
         ],
@@ -175,16 +205,25 @@ def _quantity(row: dict, unit: str) -> str:
     }[q]
 
 
-def _cells(row: dict, sweep) -> tuple[str, str, str]:
-    """Baseline, entry and difference as the table shows them (speeds in the first case's unit)."""
+#: A difference within its round-off tolerance, as the table shows it.
+ROUND_OFF_TEXT = "0 (round-off)"
+
+
+def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
+    """Baseline, entry and difference as the table shows them (speeds in the first case's
+    unit): round-off never as a number. ``neutral``: entry number -> whether its largest
+    real part is neutral (within the growth threshold of zero)."""
     from ..params import SPEED_UNITS
 
     speed = row["unit"] == "rad/s"
     width = row["quantity"] == "unstable_width"
+    peak = row["quantity"] in ("max_real_part", "max_real_part_speed")
 
-    def value(v):
+    def value(v, number):
         if v is None:
             return "-"
+        if peak and neutral[number]:  # round-off: a neutral largest real part, and where it peaks
+            return "neutral" if row["quantity"] == "max_real_part" else "-"
         if isinstance(v, int):
             return str(v)
         if speed and not width:
@@ -196,13 +235,18 @@ def _cells(row: dict, sweep) -> tuple[str, str, str]:
         diff = row["note"] or "-"
     elif d == 0:
         diff = "0"
+    elif row["quantity"] == "max_real_part_speed" and (neutral[1] or neutral[row["entry"]]):
+        diff = "- (neutral)"
+    elif row["within_round_off"]:
+        diff = ROUND_OFF_TEXT
     else:
         diff = f"{d / SPEED_UNITS[sweep.unit] if speed else d:+.3g}"
-    return value(row["baseline"]), value(row["value"]), diff
+    return value(row["baseline"], 1), value(row["value"], row["entry"]), diff
 
 
 def _print(console, comparison, rows, out_dir, fmt) -> None:
-    from .printout import simple_table
+    from ..comparison import neutral_max
+    from .printout import simple_table, threshold_text
 
     entries = comparison.entries
     sweep = entries[0].case.sweep
@@ -219,12 +263,14 @@ def _print(console, comparison, rows, out_dir, fmt) -> None:
     table = simple_table("Differences from the baseline (entry - entry 1)")
     for header in ("#", "quantity", "baseline", "entry", "difference"):
         table.add_column(header)
-    last = None
+    neutral = {e.number: neutral_max(e.result) for e in entries}
+    last, shown = None, set()
     for row in rows:
         if last is not None and row["entry"] != last:
             table.add_section()
         last = row["entry"]
-        cells = (_quantity(row, sweep.unit), *_cells(row, sweep))
+        cells = (_quantity(row, sweep.unit), *_cells(row, sweep, neutral))
+        shown.update(cells[1:])
         table.add_row(str(row["entry"]), *(plain(c) for c in cells))
     console.print(table)
     units = {e.case.sweep.unit for e in entries}
@@ -233,8 +279,23 @@ def _print(console, comparison, rows, out_dir, fmt) -> None:
         + (" (the cases' own units differ)" if len(units) > 1 else "")
         + "; ranges are paired where they overlap, in speed order.",
     ]
-    if ref_note(sweep):
-        notes.append(ref_note(sweep))
+    if ROUND_OFF_TEXT in shown:
+        notes.append(
+            f"{ROUND_OFF_TEXT}: a difference within the round-off of the computation (its tolerance, "
+            "and the difference as computed, in differences.json)."
+        )
+    if "neutral" in shown:
+        notes.append(
+            f"neutral: the largest real part within the growth threshold of zero ({threshold_text()}): "
+            "round-off, not growth; where it peaks is no result."
+        )
+    if sweep.reference:
+        refs = {e.case.sweep.reference for e in entries}
+        notes.append(
+            "ref: rotor speed / the first case's reference speed, "
+            + fmt_speed(sweep.reference, sweep, ref=False)
+            + (", for every entry (the cases' own references differ)." if len(refs) > 1 else ".")
+        )
     for line in notes:
         console.print(plain(line))
     files = [f"summary-{e.number}.json" for e in entries] + ["case.toml"]

@@ -23,6 +23,8 @@ def parse_figures(text: str | None) -> tuple[int, ...]:
             low, high = (int(ends[0]), int(ends[-1])) if len(ends) <= 2 else (None, None)
         except ValueError:
             low = high = None
+        if low is not None and low > high:
+            fail_user(f"--figures {text!r}: {part.strip()!r} runs backwards; give {allowed}")
         if low is None or not (NUMBERS[0] <= low <= high <= NUMBERS[-1]):
             fail_user(
                 f"--figures {text!r}: {part.strip()!r} is not one of the paper's figures; give {allowed}"

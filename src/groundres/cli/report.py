@@ -19,6 +19,7 @@ from .common import (
     output_dir,
     plain,
 )
+from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
 from .run import STAGES, warm_plotting
 
 #: Files a study folder holds that the report reads (one of them, with case.toml).
@@ -30,11 +31,18 @@ def study_folder(path: str) -> Path:
     folder = Path(path)
     if not folder.is_dir():
         fail_user(f"--study {path!r}: not a folder; give the --out folder of a groundres study")
-    if not any((folder / name).is_file() for name in STUDY_DATA):
+    data = [folder / name for name in STUDY_DATA if (folder / name).is_file()]
+    if not data:
         fail_user(
             f"--study {path!r}: holds neither study.nc nor boundary.nc; give the --out folder of a "
             f"groundres study"
         )
+    import xarray as xr
+
+    try:
+        xr.open_dataset(data[0]).close()
+    except Exception as err:  # noqa: BLE001 - any unreadable file is the user's to fix
+        fail_user(f"--study {path!r}: {data[0].name} cannot be read ({type(err).__name__}: {err})")
     return folder
 
 
@@ -62,7 +70,11 @@ def study_folder(path: str) -> Path:
     default=None,
     help="Analysis method (overrides the case).",
 )
-def command(case, out, fmt, study, frame, method):
+@plot_options(
+    "Rotor-speed axis of the Coleman diagram: the case's unit, or divided by its [sweep] reference; "
+    "auto normalises where the case has a reference."
+)
+def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, real_limits, modes):
     """Analyse CASE and write a self-contained HTML report of it (index.html).
 
     The page holds the verdict and unstable ranges with the modes that grow,
@@ -75,6 +87,11 @@ def command(case, out, fmt, study, frame, method):
     summary.json holds every number the page shows.
     """
     console = make_console()
+    plot = {
+        "speed_axis": speed_axis,
+        "frequency_limits": parse_limits(frequency_limits, "--frequency-limits"),
+        "real_limits": parse_limits(real_limits, "--real-limits"),
+    }
     study_dir = study_folder(study) if study is not None else None
     if case is None and study_dir is not None:
         if not (study_dir / "case.toml").is_file():
@@ -86,6 +103,12 @@ def command(case, out, fmt, study, frame, method):
         if case is None:
             console.print("No case given: reporting the built-in default case [bold]hammond-undamped[/bold].")
     the_case = load(case)
+    check_reference(the_case, speed_axis)
+    if study_dir is not None and (study_dir / "case.toml").is_file():
+        if (study_dir / "case.toml").read_text(encoding="utf-8") != the_case.text:
+            console.print(
+                "Note: the study's case.toml is not this case; the report shows the study's map as it is."
+            )
     out_dir = output_dir(name, out, "report")
     check_out(out_dir)
     warm = warm_plotting()
@@ -94,13 +117,19 @@ def command(case, out, fmt, study, frame, method):
 
     with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        plot["modes"] = check_modes(modes, result.labels)
+        check_scale(result, speed_axis=speed_axis)
         with steps.step("page"), folders.output_folder(out_dir) as folder:
             warm.join()
             from ..pages.report import report_page
 
             meta = invocation()
             html, files = report_page(
-                result, fmt=fmt, study=study_dir, command_line=shlex.join(["groundres", *meta["argv"]])
+                result,
+                fmt=fmt,
+                study=study_dir,
+                command_line=shlex.join(["groundres", *meta["argv"]]),
+                plot=plot,
             )
             io.write_summary(result, folder / "summary.json")
             for file_name, data in files.items():

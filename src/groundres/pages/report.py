@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli.common import fmt_speed
-from ..params import FREQUENCY_UNITS, SPEED_UNITS
+from ..readout import fmt_frequency, fmt_speed
 from .page import number, paragraphs, picture, render
 
 
@@ -32,10 +31,7 @@ def frequency(value, key: str, sweep):
     """A frequency [rad/s] from summary.json in the case's unit (cycles/min for rpm) and rad/s."""
     if value is None:
         return number(None, key)
-    text = f"{value / SPEED_UNITS[sweep.unit]:.4g} {FREQUENCY_UNITS[sweep.unit]}"
-    if sweep.unit != "rad/s":
-        text += f" ({value:.4g} rad/s)"
-    return number(value, key, text)
+    return number(value, key, fmt_frequency(value, sweep))
 
 
 def worst_point(result, summary: dict):
@@ -46,8 +42,11 @@ def worst_point(result, summary: dict):
     requirement (where it meets that mode), or, without one in the sweep, at
     the least damped speed of the regressive lag mode (the least damped mode
     where there is none), among speeds above rest and roots off the origin,
-    which have no phase to show.
+    which have no phase to show; where that mode is neutral over the whole
+    sweep (nothing damps it), at the reference speed.
     """
+    from ..stability import growth_threshold
+
     mr = summary["max_real_part"]
     if mr["value"] is not None and not mr["neutral"] and mr["value"] > 0:
         return mr["speed"], mr["mode"], "the largest real part (fastest growth) of the sweep"
@@ -64,28 +63,48 @@ def worst_point(result, summary: dict):
             f"the tuning speed of body mode {tight['body_mode']}, where the regressive lag mode meets it "
             "(the largest Deutsch requirement; no root grows)",
         )
+    speeds = result.rotor_speed
     ratio = np.where(
-        (result.rotor_speed[:, None] > 0) & (np.abs(result.modes.eigenvalue) > 0),
-        result.damping_ratio,
-        np.nan,
+        (speeds[:, None] > 0) & (np.abs(result.modes.eigenvalue) > 0), result.damping_ratio, np.nan
     )
     if not np.isfinite(ratio).any():
         return None
-    if (
-        "regressive lag" in result.labels
-        and np.isfinite(ratio[:, result.labels.index("regressive lag")]).any()
-    ):
-        j = result.labels.index("regressive lag")
-        why = "the smallest damping ratio of the regressive lag mode (no root grows)"
+    lag = result.labels.index("regressive lag") if "regressive lag" in result.labels else None
+    if lag is not None and np.isfinite(ratio[:, lag]).any():
+        j, why = lag, "the smallest damping ratio of the regressive lag mode (no root grows)"
     else:
         j = int(np.nanargmin(np.nanmin(ratio, axis=0)))
         why = "the smallest damping ratio of the sweep (no root grows)"
+    if np.all(np.abs(result.real_part[:, j]) <= growth_threshold(speeds)):  # neutral: no least damped
+        ref = result.case.sweep.reference
+        w = ref if ref and speeds[0] <= ref <= speeds[-1] else 0.5 * (speeds[0] + speeds[-1])
+        where = "the reference speed" if w == ref else "the middle of the sweep"
+        return (
+            float(w),
+            result.labels[j],
+            f"{where} (the mode is neutral over the whole sweep: nothing damps it)",
+        )
     i = int(np.nanargmin(ratio[:, j]))
-    return float(result.rotor_speed[i]), result.labels[j], why
+    return float(speeds[i]), result.labels[j], why
+
+
+def at_speed(result, w: float):
+    """The result itself where ``w`` [rad/s] is one of its speeds, else the same analysis with ``w`` added."""
+    if np.any(result.rotor_speed == w):
+        return result
+    from ..analysis import analyze
+
+    return analyze(
+        result.case,
+        frame=result.frame,
+        method="floquet" if result.method == "floquet" else "eigen",
+        speeds=np.union1d(result.rotor_speed, [w]),
+        lag_damping_search=False,
+    )
 
 
 def phasor_section(result, summary: dict, fmt: str) -> dict | None:
-    """The phasor diagram and the rate phases of the worst mode at the sweep speed nearest the worst."""
+    """The phasor diagram of the worst mode at the worst speed, and its coordinates' phases."""
     from ..plotting.phasors import phasor_diagram
 
     point = worst_point(result, summary)
@@ -93,7 +112,7 @@ def phasor_section(result, summary: dict, fmt: str) -> dict | None:
         return None
     w, label, why = point
     sweep = result.case.sweep
-    shape = result.mode(label, w)
+    shape = at_speed(result, w).mode(label, w)
     text = fmt_speed(shape.rotor_speed, sweep)
     rows = [
         {
@@ -101,77 +120,128 @@ def phasor_section(result, summary: dict, fmt: str) -> dict | None:
             "name": p.name,
             "unit": p.unit,
             "amplitude": f"{abs(p.displacement):.3g}",
-            "lead": f"{p.rate_lead:.2f}",
-            "in_phase": f"{p.in_phase:+.3f}",
+            "phase": f"{round(float(np.degrees(np.angle(p.displacement))), 1) + 0.0:.1f}",
         }
         for frame in ("nonrotating", "rotating")
         for p in shape.phasors(frame)
         if abs(p.displacement) > 1e-3
     ]
+    lam = shape.eigenvalue
     return {
         "label": label,
         "why": why,
         "speed": text,
-        "exact": shape.rotor_speed == w,
-        "worst_speed": fmt_speed(w, sweep),
         "state": "growing" if shape.unstable else ("neutral" if shape.neutral else "decaying"),
+        "lead": "90" if shape.neutral else f"{np.degrees(np.angle(lam)):.2f}",
         "picture": picture(phasor_diagram(shape, speed_text=text), fmt),
         "rows": rows,
     }
 
 
+#: How the accuracy record's entries read on a page (name with its unit); others by their key.
+ACCURACY_NAMES = {
+    "roots": "roots",
+    "transition_tolerance": "transition-matrix tolerance [-]",
+    "transition_tolerance_note": "transition-matrix tolerance, meaning",
+    "harmonics": "harmonics for frequency identification",
+    "interval_rad": "symmetry interval of the equations [rad of rotor turn]",
+    "steps_per_interval min": "integration steps per interval, fewest",
+    "steps_per_interval max": "integration steps per interval, most",
+    "lifted_speeds": "speeds integrated by lifting (slow rotor)",
+    "growth_threshold per_radian": "growth threshold, per rad/s of rotor speed [1/s]",
+    "growth_threshold floor": "growth threshold, floor [1/s]",
+    "growth_threshold unit": None,
+    "growth_threshold note": "growth threshold, meaning",
+}
+
+
 def accuracy_rows(accuracy: dict | None, prefix: str = "") -> list[tuple[str, str]]:
-    """The accuracy record flattened into (name, text) rows."""
+    """The accuracy record flattened into (name, text) rows, named as :data:`ACCURACY_NAMES` says."""
     rows = []
     for key, value in (accuracy or {}).items():
-        name = f"{prefix}{key}".replace("_", " ")
         if isinstance(value, dict):
             rows += accuracy_rows(value, f"{prefix}{key} ")
-        elif isinstance(value, float):
-            rows.append((name, f"{value:.6g}"))
-        else:
-            rows.append((name, str(value)))
+            continue
+        name = ACCURACY_NAMES.get(f"{prefix}{key}", f"{prefix}{key}".replace("_", " "))
+        if name is None:
+            continue
+        rows.append((name, f"{value:.6g}" if isinstance(value, float) else str(value)))
     return rows
 
 
-def study_section(folder: Path, fmt: str) -> dict:
-    """A study folder's map (embedded as written) and what it varied."""
+def _span(values, units: str = "") -> str:
+    """A numeric array's finite range as text, with its unit."""
+    finite = values[np.isfinite(values)] if np.issubdtype(values.dtype, np.number) else values
+    if not np.issubdtype(values.dtype, np.number):
+        return ", ".join(str(v) for v in values.ravel()[:8]) + (" ..." if values.size > 8 else "")
+    if not finite.size:
+        return "no finite value"
+    unit = f" {units}" if units else ""
+    return f"{finite.min():.4g} to {finite.max():.4g}{unit} ({values.size} values)"
+
+
+def study_section(folder: Path, case_text: str) -> dict:
+    """A study folder's map (embedded as the study wrote it), what it varied and what it found.
+
+    ``case_text``: the reported case's text; a study of another case is said so.
+    """
+    import xarray as xr
+
     from .page import data_uri
 
-    maps = sorted(p for p in folder.glob("map.*") if p.suffix[1:] in ("png", "svg"))
+    maps = sorted(folder.glob("map.*"))
+    shown = [p for p in maps if p.suffix[1:] in ("png", "svg")]
     record = {}
     provenance = folder / "provenance.json"
     if provenance.is_file():
         record = json.loads(provenance.read_text(encoding="utf-8"))
-    facts = []
+    notes, facts = [], []
+    study_case = folder / "case.toml"
+    if study_case.is_file() and study_case.read_text(encoding="utf-8") != case_text:
+        notes.append(
+            "The study's case.toml is not the case reported above: the map is of the study's own case."
+        )
+    if maps and not shown:
+        notes.append(
+            f"The study's map is {maps[0].name}, which a page cannot embed; run the study with --format png "
+            "(or svg) to have it here."
+        )
     for name in ("study.nc", "boundary.nc"):
         if (folder / name).is_file():
-            import xarray as xr
-
             with xr.open_dataset(folder / name) as ds:
                 for dim in ds.sizes:
                     if dim in ds.coords and ds.coords[dim].size:
-                        values = ds.coords[dim].values
-                        if np.issubdtype(values.dtype, np.number):
-                            facts.append(
-                                (dim, f"{values.min():.4g} to {values.max():.4g} ({values.size} values)")
+                        facts.append(
+                            (
+                                f"varied: {dim}",
+                                _span(ds.coords[dim].values, ds.coords[dim].attrs.get("units", "")),
                             )
-                        else:
-                            facts.append((dim, ", ".join(str(v) for v in values[:8])))
+                        )
                 if "stable" in ds:
                     stable = ds["stable"].values
                     facts.append(("stable points", f"{int(np.sum(stable == 1))} of {stable.size}"))
+                if name == "boundary.nc":
+                    for var in ds.data_vars:
+                        facts.append((f"found: {var}", _span(ds[var].values, ds[var].attrs.get("units", ""))))
             break
     return {
         "folder": str(folder),
         "command_line": record.get("command_line", ""),
-        "uri": data_uri(maps[0].read_bytes(), maps[0].suffix[1:]) if maps else None,
+        "uri": data_uri(shown[0].read_bytes(), shown[0].suffix[1:]) if shown else None,
         "facts": facts,
+        "notes": notes,
     }
 
 
 def deutsch_rows(summary: dict, sweep) -> list[dict]:
-    """The Deutsch requirement per body mode, every number from summary.json."""
+    """The Deutsch requirement per body mode, every number from summary.json.
+
+    A requirement where the criterion does not apply is shown as such (its value
+    is for the average blade); a tuning speed outside the sweep is marked; and
+    where the criterion is met but the analysis finds growth at the tuning speed
+    the row says that the criterion's assumptions do not hold there.
+    """
+    ranges = [(r["start"], r["end"]) for r in summary["unstable_ranges"]]
     rows = []
     for i, e in enumerate(summary["lag_damping"]["deutsch"]):
         key = f"lag_damping.deutsch.{i}"
@@ -179,39 +249,56 @@ def deutsch_rows(summary: dict, sweep) -> list[dict]:
             verdict = e["satisfied_reason"]
         else:
             verdict = "met by the installed damping" if e["satisfied"] else "NOT met by the installed damping"
+        tuning, required = e["tuning_speed"], e["required_lag_damping"]
+        caveat = ""
+        if e["satisfied"] and tuning is not None and any(s <= tuning <= t for s, t in ranges):
+            caveat = (
+                "yet the analysis finds growth at this tuning speed: the criterion's assumptions (light "
+                "damping, one body mode at a time on its own, identical blades) do not hold here"
+            )
+        if required is None:
+            shown = number(None, f"{key}.required_lag_damping", e.get("required_lag_damping_reason", "none"))
+        elif not e["applies"]:
+            shown = number(required, f"{key}.required_lag_damping", f"({required:.4g})")
+        else:
+            shown = number(required, f"{key}.required_lag_damping")
+        nu = e["lag_frequency_per_rev"]
         rows.append(
             {
                 "mode": e["body_mode"],
                 "form": e["form"],
                 "frequency": frequency(e["body_frequency"], f"{key}.body_frequency", sweep),
-                "tuning": speed(e["tuning_speed"], f"{key}.tuning_speed", sweep),
-                "nu": number(e["lag_frequency_per_rev"], f"{key}.lag_frequency_per_rev", None)
-                if e["lag_frequency_per_rev"] is not None
-                else number(None, f"{key}.lag_frequency_per_rev", "no tuning"),
-                "required": number(e["required_lag_damping"], f"{key}.required_lag_damping")
-                if e["required_lag_damping"] is not None
-                else number(
-                    None, f"{key}.required_lag_damping", e.get("required_lag_damping_reason", "none")
-                ),
+                "tuning": speed(tuning, f"{key}.tuning_speed", sweep),
+                "outside": tuning is not None and e["tuning_in_sweep"] is False,
+                "nu": number(nu, f"{key}.lag_frequency_per_rev", None if nu is not None else "no tuning"),
+                "required": shown,
                 "verdict": verdict,
                 "satisfied": e["satisfied"],
+                "caveat": caveat,
             }
         )
     return rows
 
 
 def report_page(
-    result, *, fmt: str = "png", study: str | Path | None = None, command_line: str = ""
+    result,
+    *,
+    fmt: str = "png",
+    study: str | Path | None = None,
+    command_line: str = "",
+    plot: dict | None = None,
 ) -> tuple[str, dict[str, bytes]]:
     """The HTML report of a :class:`~groundres.results.SweepResult`, and the pictures to write beside it.
 
     Returns ``(html, files)``: ``files`` maps file names (``coleman.<fmt>``,
     ``phasors.<fmt>``) to their bytes. The page embeds the pictures itself.
+    ``plot``: keyword arguments of :meth:`~groundres.results.SweepResult.plot`
+    for the Coleman diagram (speed axis, limits, modes).
     """
     case = result.case
     sweep = case.sweep
     summary = result.summary()
-    coleman = picture(result.plot(), fmt)
+    coleman = picture(result.plot(**(plot or {})), fmt)
     phasors = phasor_section(result, summary, fmt)
     files = {f"coleman.{fmt}": coleman["bytes"]}
     if phasors is not None:
@@ -239,7 +326,7 @@ def report_page(
         "lag": lag,
         "coleman": coleman,
         "phasors": phasors,
-        "study": study_section(Path(study), fmt) if study is not None else None,
+        "study": study_section(Path(study), case.text) if study is not None else None,
         "accuracy": accuracy_rows(result.accuracy),
         "command_line": command_line,
         "unit_note": (

@@ -50,7 +50,7 @@ def label_colour(label: str, i: int = 0) -> str:
     return _COLOURS.get(label, _EXTRA[i % len(_EXTRA)])
 
 
-def _style(label: str) -> str:
+def line_style(label: str) -> str:
     return "--" if "flap" in label or label == "coning" else "-"
 
 
@@ -155,7 +155,7 @@ def _segments(x, y, succ, exchange, label, moved=None):
     return pieces, marks
 
 
-def _roots(ax, x, values, labels, styles, colours, scale, show=None):
+def root_lines(ax, x, values, labels, styles, colours, scale, show=None):
     """Each tracked root's line, coloured by the label of its mode at each speed.
 
     values, labels : (n_s, n_e). Where a root's label changes the line turns
@@ -287,7 +287,7 @@ def coleman_diagram(
     )
 
     colours = [label_colour(label, i) for i, label in enumerate(result.labels)]
-    styles = [_style(label) for label in result.labels]
+    styles = [line_style(label) for label in result.labels]
     marks_f, marks_d = [], []
     shown_freq = freq[:, show]
     top_f = max(np.nanmax(shown_freq) if np.isfinite(shown_freq).any() else 0.0, 1e-12)
@@ -307,7 +307,9 @@ def coleman_diagram(
     if not show_damping_ratio:  # every root: continuous, coloured by its mode's label
         for ax, scale in ((ax_d, span), (ax_z, 3.6 * bump)):
             if ax is not None:
-                marks = _roots(ax, w, modes.root_real_part, modes.root_label, styles, colours, scale, show)
+                marks = root_lines(
+                    ax, w, modes.root_real_part, modes.root_label, styles, colours, scale, show
+                )
                 marks_d += marks if ax is ax_d else []
     for i in np.flatnonzero(grows.any(0)):  # the growing stretches, highlighted
         ax_f.plot(w, np.where(grows[:, i], freq[:, i], np.nan), "-", color=colours[i], lw=4.0, alpha=0.5)

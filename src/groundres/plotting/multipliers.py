@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .coleman import _roots, _style, label_colour, speed_scale
+from .coleman import label_colour, line_style, root_lines, speed_scale
 from .titles import figure_title
 
 
@@ -50,8 +50,8 @@ def multiplier_diagram(result, fig=None):
     # |z| of every tracked root, continuous, coloured by its mode's label (as the Coleman real parts)
     modes = result.modes
     size = np.exp(modes.root_real_part * (2 * np.pi / result.rotor_speed)[:, None])
-    styles = [_style(label) for label in result.labels]
-    marks = _roots(
+    styles = [line_style(label) for label in result.labels]
+    marks = root_lines(
         ax_m, w, size, modes.root_label, styles, colours, float(np.ptp(size)) if size.size else 1.0
     )
     if marks:

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..params import FREQUENCY_UNITS, SPEED_UNITS
 from .axes import checked_limits, checked_modes, speed_scale
-from .titles import figure_title
+from .titles import figure_title, literal
 
 #: Colours of the entries, in order.
 ENTRY_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
@@ -234,7 +234,7 @@ def _legend(fig, entries, shown) -> None:
     for k, e in enumerate(entries):
         lw, alpha = _width(k, n)
         handles.append(Line2D([], [], color=entry_colour(e.number), lw=lw, alpha=alpha))
-        labels.append(f"{e.number}  {e.case_name}" + (f"\n    ({e.detail})" if e.detail else ""))
+        labels.append(f"{e.number}  {literal(e.case_name)}" + (f"\n    ({e.detail})" if e.detail else ""))
     handles.append(blank)
     labels.append("\nmodes")
     for i, label in enumerate(shown):

@@ -1,4 +1,9 @@
-"""Case titles as pictures show them."""
+"""Case titles and names as pictures show them: literally.
+
+matplotlib reads text between two ``$`` as mathtext (and raises on what it
+cannot parse, e.g. ``$\\frac{1}{2}$``): user text (a case's title, a case
+file's stem) has every ``$`` escaped, so that it shows as typed.
+"""
 
 from __future__ import annotations
 
@@ -8,9 +13,26 @@ import unicodedata
 TITLE_LENGTH = 150
 
 
+def _drawable(text) -> str:
+    """``text`` without control characters (which no font draws)."""
+    return "".join(ch for ch in str(text) if unicodedata.category(ch) != "Cc")
+
+
+def _escaped(text: str) -> str:
+    """Every ``$`` escaped: matplotlib draws ``\\$`` as ``$``, and text without an
+    unescaped ``$`` is never mathtext."""
+    return text.replace("$", r"\$")
+
+
+def literal(text: str) -> str:
+    """User text (a case file's stem, a name) as a picture shows it, literally:
+    control characters dropped and every ``$`` escaped."""
+    return _escaped(_drawable(text))
+
+
 def figure_title(text: str) -> str:
-    """A case title as a picture shows it: control characters (which no font draws)
-    dropped, and cut to :data:`TITLE_LENGTH` characters (matplotlib lays out a long
-    title slowly, and it would not fit the figure)."""
-    text = "".join(ch for ch in text if unicodedata.category(ch) != "Cc")
-    return text if len(text) <= TITLE_LENGTH else text[: TITLE_LENGTH - 1] + "\u2026"
+    """A case title as a picture shows it: as :func:`literal`, and cut to
+    :data:`TITLE_LENGTH` characters (matplotlib lays out a long title slowly, and
+    it would not fit the figure)."""
+    text = _drawable(text)
+    return _escaped(text if len(text) <= TITLE_LENGTH else text[: TITLE_LENGTH - 1] + "\u2026")
