@@ -334,8 +334,9 @@ ONE_LEG = RIGID[: RIGID.index("[[body.gear]]")] + RIGID[RIGID.rindex("[[body.gea
         (RIGID.replace("inertia_yy = 2500.0\n", ""), ["inertia_yy"]),
         (
             RIGID.replace("inertia_xx = 700.0", "inertia_xx = 700.0\ninertia_xy = 2000.0"),
-            ["inertia", "positive definite"],
+            ["inertia_xx, inertia_yy, inertia_xy", "positive definite"],
         ),
+        (RIGID.replace("inertia_yy = 2500.0", "inertia_yy = 0.0"), ["inertia_yy = 0.0", "pitch is in dofs"]),
         (RIGID.replace("position_z = 0.0\n", "", 1), ["position_z"]),
     ],
 )
@@ -411,3 +412,23 @@ def test_rotating_phasors_keep_heave_and_yaw_and_heave_is_in_metres():
     assert units == {"x": "m", "y": "m", "z": "m", "yaw": "rad"}
     rotating = {p.name for p in result.mode("body yaw", 20.0).phasors("rotating")}
     assert {"z", "yaw", "x_r", "y_r"} <= rotating
+
+
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        (INTER.replace('kind = "blade-to-blade"', f'kind = "{"x" * 5000}"'), ["kind", "..."]),
+        (INTER.replace("[body]", '[body]\n"bad\\nkey" = 1.0'), ["unknown key", "'bad\\nkey'"]),
+        (INTER.replace("[body]", f"[body]\n{'k' * 5000} = 1.0"), ["unknown key", "..."]),
+    ],
+)
+def test_long_or_multiline_names_in_messages_are_shortened_to_one_line(tmp_path, text, words):
+    """A message stays one short line whatever the user typed: texts are shortened, newlines escaped."""
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    result = CliRunner().invoke(main, ["run", str(path), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    message = result.output.strip()
+    assert "\n" not in message and len(message) < 600, message[:200]
+    for word in words:
+        assert word in message

@@ -214,12 +214,24 @@ class Body:
         axes = [i for i, d in enumerate(("roll", "pitch", "yaw")) if d in self.dofs]
         tensor = self.inertia_tensor()[np.ix_(axes, axes)]
         if axes and np.linalg.eigvalsh(tensor).min() <= 0:
+            diagonal = [("inertia_xx", "roll"), ("inertia_yy", "pitch"), ("inertia_zz", "yaw")]
+            bad = [k for i, (k, _) in enumerate(diagonal) if i in axes and getattr(self, k) <= 0]
+            if bad:
+                raise ParameterError(
+                    bad[0],
+                    getattr(self, bad[0]),
+                    f"must be > 0 [kg m^2]: the body turns about this axis "
+                    f"({dict(diagonal)[bad[0]]} is in dofs)",
+                )
+            used = [k for i, (k, _) in enumerate(diagonal) if i in axes]
+            products = {(0, 1): "inertia_xy", (0, 2): "inertia_xz", (1, 2): "inertia_yz"}
+            used += [k for (i, j), k in products.items() if i in axes and j in axes]
             raise ParameterError(
-                "inertia_xx",
-                self.inertia_xx,
-                "the inertia tensor (inertia_xx ... inertia_yz) about the axes the body turns about "
-                "must be positive definite (each principal inertia > 0, none larger than the sum "
-                "of the other two)",
+                ", ".join(used),
+                tuple(getattr(self, k) for k in used),
+                "the inertia tensor about the axes the body turns about must be positive definite "
+                "(all its principal inertias > 0): the products of inertia are too large for these "
+                "moments of inertia",
             )
         self._check_held("stiffness")
 
@@ -236,8 +248,9 @@ class Body:
         raise ParameterError(
             "dofs",
             list(self.dofs),
-            f"the gear legs hold no {kind} against '{dof}' (a leg resists {what}): "
-            "place the legs so that they hold it, or leave it out of dofs",
+            f"the gear legs hold no {kind} against '{dof}' (a leg resists {what}), or hold it so "
+            f"little against their other {kind} (legs very far from the centre of mass) that it is "
+            "lost to round-off: place the legs so that they hold it, or leave it out of dofs",
         )
 
     def inertia_tensor(self) -> np.ndarray:

@@ -139,7 +139,7 @@ def _check_table(table: str, data: dict) -> None:
             near = difflib.get_close_matches(key, schema, n=1, cutoff=0.5)
             hint = f"; did you mean '{near[0]}'?" if near else f"; allowed keys: {', '.join(schema)}"
             raise CaseError(
-                f"unknown key '{key}' in {('[' + table + ']') if table else 'the case file'}{hint}"
+                f"unknown key {shown(key)} in {('[' + table + ']') if table else 'the case file'}{hint}"
             )
         _check_type(table, key, value, schema[key])
     for key in REQUIRED.get(table, ()):
@@ -191,12 +191,13 @@ def _dampers(entries: list, n_blades: int) -> tuple:
         if kind not in KINDS:
             near = difflib.get_close_matches(kind, KINDS, n=1, cutoff=0.5)
             hint = f" (did you mean '{near[0]}'?)" if near else ""
-            raise CaseError(f"[[rotor.damper]] kind = {kind!r}: must be one of {list(KINDS)}{hint}")
+            raise CaseError(f"[[rotor.damper]] kind = {shown(kind)}: must be one of {list(KINDS)}{hint}")
         values = {k: float(v) for k, v in entry.items() if k not in ("kind", "blade")}
         if "blade" not in entry:
             if kind in layouts:
                 raise CaseError(
-                    f"[[rotor.damper]] kind = {kind!r}: a layout (an entry without blade) may be given once "
+                    f"[[rotor.damper]] kind = {shown(kind)}: a layout (an entry without blade) may be "
+                    "given once "
                     "per kind; override single rods with blade = k"
                 )
             layouts[kind] = values
@@ -207,7 +208,7 @@ def _dampers(entries: list, n_blades: int) -> tuple:
                 f"[[rotor.damper]] blade = {shown(blade)}: must be a blade of the rotor, 1 to {n_blades}"
             )
         if (kind, blade) in overrides:
-            raise CaseError(f"[[rotor.damper]] kind = {kind!r}, blade = {blade}: given twice")
+            raise CaseError(f"[[rotor.damper]] kind = {shown(kind)}, blade = {blade}: given twice")
         overrides[(kind, blade)] = values
     rods = []
     for kind, values in layouts.items():
@@ -219,12 +220,12 @@ def _dampers(entries: list, n_blades: int) -> tuple:
         missing = [k for k in GEOMETRY[:2] + GEOMETRY[3:5] + ("damping",) if k not in values]
         if missing:
             raise CaseError(
-                f"missing key [[rotor.damper]] {missing[0]} (kind = {kind!r}, blade = {blade}): "
+                f"missing key [[rotor.damper]] {missing[0]} (kind = {shown(kind)}, blade = {blade}): "
                 "a rod needs damping and both ends (start_x, start_y, end_x, end_y; z defaults to 0)"
             )
         out.append(
             _build(
-                f"[[rotor.damper]] kind = {kind!r}, blade = {blade}: ",
+                f"[[rotor.damper]] kind = {shown(kind)}, blade = {blade}: ",
                 Damper,
                 blade=blade,
                 kind=kind,

@@ -302,9 +302,11 @@ def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
     unit_mass = m / (d[..., :, None] * d[..., None, :])
     if np.linalg.eigvalsh(unit_mass).min() <= 1e-12:
         raise ModelRangeError(
-            "the mass matrix of this case is singular to working precision (a blade with "
-            "blade_static_moment^2 = blade_mass * blade_inertia on a body of almost no mass): "
-            "give the body more mass or the blade more inertia"
+            "the mass matrix of this case is singular to working precision: some motion has almost "
+            "no inertia of its own against the rest (a blade with blade_static_moment^2 = blade_mass * "
+            "blade_inertia on a body of almost no mass, or a rigid body whose mass is so large against "
+            "its moments of inertia that its translations and rotations cannot be told apart): bring the "
+            "masses and inertias within about 1e10 of each other, or give the blade more inertia"
         )
     with np.errstate(over="ignore", invalid="ignore"):
         roots = np.linalg.eigvals(unit_mass_state_matrix(m, c, k)[0])
