@@ -72,7 +72,8 @@ def _roots(ax, x, values, labels, shown, style):
 
 
 def _broken(x, y, moved):
-    """x, y with a gap (NaN) before every point flagged in ``moved`` (a frequency jump)."""
+    """x, y with a gap (NaN) before every point flagged in ``moved`` (a frequency jump, or the label
+    moving to another branch)."""
     if moved is None or not moved[1:].any():
         return x, y
     at = np.flatnonzero(moved[1:]) + 1
@@ -157,7 +158,8 @@ def overlay_diagram(
             if label not in r.labels:
                 continue
             j = r.labels.index(label)
-            ax_f.plot(*_broken(w, freq[:, j], moved[:, j]), **style(i))
+            # (a gap where the label moves harmonic or to another branch: no vertical step is drawn)
+            ax_f.plot(*_broken(w, freq[:, j], moved[:, j] | r.modes.exchange[:, j]), **style(i))
             if show_damping_ratio:
                 ax_d.plot(w, r.damping_ratio[:, j], **style(i))
             if np.isfinite(freq[:, j]).any():
