@@ -194,6 +194,7 @@ def build(numbers=NUMBERS, fmt: str = "png", progress=None) -> tuple[dict, dict[
         from ..config import load_case
 
         case = load_case(fig.case)
+        record["configuration"] = configuration_text(case)
         sections.append({"figure": fig, "case": case, "record": record, "index": k, **body})
         if progress is not None:
             progress(k + 1, len(chosen))
@@ -207,6 +208,36 @@ def build(numbers=NUMBERS, fmt: str = "png", progress=None) -> tuple[dict, dict[
         },
     }
     return data, files
+
+
+def configuration_text(case) -> str:
+    """The case in one line: blades, body, dampers and the lag frequency at the reference speed."""
+    from ..deutsch import lag_frequency_per_rev
+
+    rotor, body, sweep = case.rotor, case.body, case.sweep
+    dampers = sorted({b.lag_damping for b in rotor.blades})
+    if len(dampers) == 1:
+        lag = f"lag dampers {dampers[0]:g} N m s/rad" if dampers[0] else "no lag dampers"
+    else:
+        lag = (
+            "lag dampers "
+            + ", ".join(f"{b.lag_damping:g}" for b in rotor.blades)
+            + " N m s/rad (blade by blade)"
+        )
+    if rotor.dampers:
+        kinds = sorted({d.kind for d in rotor.dampers})
+        lag = ("" if lag == "no lag dampers" else f"{lag}, ") + f"damper rods ({', '.join(kinds)})"
+    hub = "isotropic" if body.isotropic else "anisotropic"
+    if body.form == "modal":
+        damped = any(getattr(body, f"damping_{d}", 0.0) for d in body.dofs)
+        support = f"body {', '.join(body.dofs)} ({hub}, {'damped' if damped else 'undamped'})"
+    else:
+        support = f"rigid body on {len(body.gear)} gear legs, moving in {', '.join(body.dofs)}"
+    parts = [f"{rotor.n_blades} blades" + (" with flap" if rotor.flap else ""), lag, support]
+    if sweep.reference:
+        nu = lag_frequency_per_rev(rotor, sweep.reference)
+        parts.append(f"lag frequency {nu:.3g}/rev at the reference speed")
+    return "; ".join(parts) + "."
 
 
 def figures_text(sections) -> str:
