@@ -195,10 +195,12 @@ def test_the_command_writes_the_store_the_netcdf_and_the_map(tmp_path):
     for name in ("study.zarr", "study.nc", "map.png", "case.toml", "provenance.json"):
         assert (out / name).exists()
     assert "10 grid points" in result.output
-    # the same command again: everything is done, nothing is computed
-    again = CliRunner().invoke(main, [*args, "--out", str(out), "--workers", "1"])
+    # the same command again: everything is done, nothing is computed; its map in another format
+    # replaces the earlier one (a folder holds one map, this study's)
+    again = CliRunner().invoke(main, [*args, "--out", str(out), "--workers", "1", "--format", "svg"])
     assert again.exit_code == 0, again.output
     assert "10 of them were found done in the store" in again.output
+    assert (out / "map.svg").exists() and not (out / "map.png").exists()
     assert store.load(out / "study.zarr").max_real_part.shape == (2, 5)
 
 

@@ -145,6 +145,8 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     if boundary is not None:
         studies.write_netcdf(ds, out_dir / "boundary.nc")
     io.write_figure(studies.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
+    for stale in MAP_FILES - {f"map.{fmt}"}:  # (a map of an earlier run in another format: not this study's)
+        (out_dir / stale).unlink(missing_ok=True)
     folders.write_provenance(out_dir, the_case, command="study", **invocation())
     seconds = time.perf_counter() - started
     if boundary is None:
