@@ -155,6 +155,30 @@ def _segments(x, y, succ, exchange, label, moved=None):
     return pieces, marks
 
 
+def label_stretches(x, values, labels):
+    """The stretches of each tracked root over which its label holds.
+
+    values, labels : (n_s, n_e). Yields ``(column, start, stop, xs, ys, label,
+    next_label)`` for the speeds ``start:stop`` of each column, the stretch
+    extended half-way to the neighbouring speed on each side where the label
+    changes (``next_label``: the label after the stretch, None at the end).
+    """
+    n_s, n_e = values.shape
+    for c in range(n_e):
+        y, lab = values[:, c], labels[:, c]
+        start = 0
+        for stop in [*(np.flatnonzero(lab[1:] != lab[:-1]) + 1), n_s]:
+            xs, ys = list(x[start:stop]), list(y[start:stop])
+            if start > 0:  # from half-way after the change
+                xs.insert(0, 0.5 * (x[start - 1] + x[start]))
+                ys.insert(0, 0.5 * (y[start - 1] + y[start]))
+            if stop < n_s:  # to half-way before the next
+                xs.append(0.5 * (x[stop - 1] + x[stop]))
+                ys.append(0.5 * (y[stop - 1] + y[stop]))
+            yield c, start, stop, xs, ys, lab[start], (lab[stop] if stop < n_s else None)
+            start = stop
+
+
 def root_lines(ax, x, values, labels, styles, colours, scale, show=None):
     """Each tracked root's line, coloured by the label of its mode at each speed.
 
@@ -163,29 +187,16 @@ def root_lines(ax, x, values, labels, styles, colours, scale, show=None):
     if given: only the roots of these modes are drawn. Returns the markers.
     """
     marks = []
-    n_s, n_e = values.shape
     show = np.ones(len(styles), bool) if show is None else show
     hidden = ~show[labels]
     covered = _covered(np.where(hidden, np.nan, values), 0.004 * max(scale, 1e-12), labels)
-    for c in range(n_e):
-        y, lab = values[:, c], labels[:, c]
-        start = 0
-        for s in list(np.flatnonzero(lab[1:] != lab[:-1]) + 1) + [n_s]:
-            xs, ys, cov = list(x[start:s]), list(y[start:s]), list(covered[start:s, c])
-            if start > 0:  # from half-way after the change
-                xs.insert(0, 0.5 * (x[start - 1] + x[start]))
-                ys.insert(0, 0.5 * (y[start - 1] + y[start]))
-                cov.insert(0, False)
-            i = lab[start]
-            if s < n_s:  # to half-way before the next
-                xs.append(0.5 * (x[s - 1] + x[s]))
-                ys.append(0.5 * (y[s - 1] + y[s]))
-                cov.append(False)
-                if show[i] or show[lab[s]]:
-                    marks.append((xs[-1], ys[-1]))
-            if show[i]:
-                _draw(ax, xs, ys, cov, styles[i], colours[i])
-            start = s
+    for c, start, stop, xs, ys, i, after in label_stretches(x, values, labels):
+        # (the half-way ends lie on no other line)
+        cov = [False] * int(start > 0) + list(covered[start:stop, c]) + [False] * int(after is not None)
+        if after is not None and (show[i] or show[after]):
+            marks.append((xs[-1], ys[-1]))
+        if show[i]:
+            _draw(ax, xs, ys, cov, styles[i], colours[i])
     return marks
 
 

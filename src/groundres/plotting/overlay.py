@@ -15,6 +15,7 @@ import numpy as np
 
 from ..params import FREQUENCY_UNITS, SPEED_UNITS
 from .axes import checked_limits, checked_modes, speed_scale
+from .coleman import label_stretches
 from .titles import figure_title, literal
 
 #: Colours of the entries, in order.
@@ -54,21 +55,9 @@ def _roots(ax, x, values, labels, shown, style):
     changes style half-way between two speeds where its label changes, and
     is left out where its mode is not shown.
     """
-    n_s, n_e = values.shape
-    for c in range(n_e):
-        y, lab = values[:, c], labels[:, c]
-        start = 0
-        for s in [*(np.flatnonzero(lab[1:] != lab[:-1]) + 1), n_s]:
-            xs, ys = list(x[start:s]), list(y[start:s])
-            if start > 0:  # from half-way after the change
-                xs.insert(0, 0.5 * (x[start - 1] + x[start]))
-                ys.insert(0, 0.5 * (y[start - 1] + y[start]))
-            if s < n_s:  # to half-way before the next
-                xs.append(0.5 * (x[s - 1] + x[s]))
-                ys.append(0.5 * (y[s - 1] + y[s]))
-            if lab[start] in shown:
-                ax.plot(xs, ys, **style(shown.index(lab[start])))
-            start = s
+    for _, _, _, xs, ys, label, _ in label_stretches(x, values, labels):
+        if label in shown:
+            ax.plot(xs, ys, **style(shown.index(label)))
 
 
 def _broken(x, y, moved):
