@@ -10,26 +10,19 @@ nonrotating axes (Peters, Lieb and Ahaus 2011, "Interpretation of Floquet
 eigenvalues and eigenvectors for periodic systems", JAHS 56, 032001), from
 which :mod:`groundres.identify` names the root and gives its frequency.
 
-Symmetry (fast Floquet theory, Peters 1995, "Fast Floquet theory and trim for
-multi-bladed rotorcraft", JAHS 39(4)): if advancing the azimuth by
-Delta = 2 pi j / N maps the equations onto themselves with blade k + j taking
-the place of blade k, then Phi(T) = (G^-1 Phi(Delta))^(N/j) with G that
-permutation. Only Delta is integrated; the exponents come from
-R = G^-1 Phi(Delta) and are unique up to multiples of (N/j) Omega.
+Symmetry (:mod:`groundres.symmetry`): where advancing the azimuth by
+Delta = 2 pi j / N hands each blade's role to blade k + j, only Delta is
+integrated; the exponents come from R = G^-1 Phi(Delta) and are unique up to
+multiples of (N/j) Omega.
 
 Low rotor speeds. The period grows as 1/Omega, so a well damped mode decays
 over it by many decades and the eigenvalues of the product Phi(Delta) lose
 the small multipliers to round-off. Where the multipliers of a speed span
 more than exp(LIFT_SPREAD) (as seen, or as the frozen system's real parts
 foretell: the multipliers themselves cannot show a spread beyond
-round-off), the period is cut into K parts with transition
-matrices Q_k and the multipliers come from the lifted, block-cyclic matrix
-whose eigenvalues z satisfy z^K = rho (the eigenvalue problem of a periodic
-matrix product, solved as in Bojanczyk, Golub and Van Dooren 1992, "The
-periodic Schur decomposition", Proc. SPIE 1770, by reduction to one matrix
-with a well conditioned spectrum): over one part no mode grows or decays by
-more than exp(LIFT_STEP), and the eigenvector gives the periodic part at
-every part's start directly. The samples over a revolution are as many as the
+round-off), the period is cut into K parts and the multipliers come from
+the lifted matrix (:mod:`groundres.lifting`): over one part no mode grows
+or decays by more than exp(LIFT_STEP). The samples over a revolution are as many as the
 fastest motion needs (twice its frequency over Omega plus the harmonics
 kept), so the harmonics do not alias at low speed. At Omega = 0 the
 equations have constant coefficients (the rotor stands still, blade 1 at
@@ -43,7 +36,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .lifting import lifted_eig
 from .modal import state_matrix
+from .symmetry import Symmetry, symmetry  # noqa: F401  (Symmetry: the type of solve's symmetries, for callers)
 from .system import System
 from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for callers)
     BUTCHER6,
@@ -76,55 +71,6 @@ LIFT_SPREAD = 16.0
 LIFT_STEP = 14.0
 #: Largest lifted matrix solved [rows].
 LIFT_SIZE = 3000
-
-
-@dataclass(frozen=True)
-class Symmetry:
-    """Azimuth shift that maps the system onto itself.
-
-    Attributes
-    ----------
-    shift : int
-        Blades j moved by the map (N for no symmetry: the full period).
-    angle : float
-        Azimuth interval Delta = 2 pi j / N [rad].
-    g : ndarray (n, n)
-        Permutation of coordinates with X(psi + Delta) = g X(psi) g' for the
-        mass, damping and stiffness matrices X.
-    """
-
-    shift: int
-    angle: float
-    g: np.ndarray
-
-
-def symmetry(system: System) -> Symmetry:
-    """The shortest azimuth shift under which the blade-coordinate equations repeat.
-
-    In blade coordinates (body axes nonrotating) every coefficient is a sum over
-    blades of functions of each blade's own azimuth (and damper rods constant in
-    the blades' coordinates), so advancing the azimuth by 2 pi j / N only hands
-    each blade's role to blade k + j: the equations repeat when the blades and
-    their rods do (:meth:`groundres.params.Rotor.repeats`), whatever the body.
-    """
-    rotor = system.rotor
-    n = rotor.n_blades
-    for j in range(1, n + 1):
-        if n % j == 0 and rotor.repeats(j):
-            return Symmetry(j, 2 * math.pi * j / n, _coordinate_map(system, j))
-    raise AssertionError("the full period is always a symmetry")
-
-
-def _coordinate_map(system: System, shift: int) -> np.ndarray:
-    """g with X(psi + Delta) = g X(psi) g' (blade k + j takes blade k's place)."""
-    size, n_body, n = system.size, system.n_body, system.n_blades
-    g = np.zeros((size, size))
-    g[:n_body, :n_body] = np.eye(n_body)
-    for kind in range(len(system.blade_kinds)):
-        base = n_body + kind * n
-        for k in range(n):
-            g[base + k, base + (k + shift) % n] = 1.0
-    return g
 
 
 @dataclass
@@ -188,42 +134,6 @@ def _pairing_key(lam, dt):
     decay = lam.real * dt[:, None]
     squeeze = np.minimum(1.0, 600.0 / np.maximum(np.abs(decay).max(-1, keepdims=True), 1e-300))
     return np.exp(decay * squeeze + 1j * lam.imag * dt[:, None])
-
-
-def lifted_eig(parts, g):
-    """Multipliers and periodic eigenvectors from transition matrices over K parts.
-
-    Parameters
-    ----------
-    parts : ndarray (K, m, m)
-        Q_k over consecutive equal parts of the reduced period.
-    g : ndarray (m, m)
-        The symmetry map: R = g' Q_(K-1) ... Q_0.
-
-    Returns
-    -------
-    z : complex ndarray (m,)
-        Eigenvalues of the block-cyclic matrix with arg z in (-pi/K, pi/K]:
-        rho = z^K, one z for each rho.
-    starts : complex ndarray (K, m, m)
-        ``starts[k]`` is Phi(psi_k) v / z^k at the start psi_k of part k: the
-        periodic part of the Floquet solution there, for every root (columns).
-    """
-    k_parts, m, _ = parts.shape
-    lifted = np.zeros((k_parts * m, k_parts * m))
-    lifted[:m, (k_parts - 1) * m :] = g.T @ parts[-1]
-    for k in range(1, k_parts):
-        lifted[k * m : (k + 1) * m, (k - 1) * m : k * m] = parts[k - 1]
-    values, vectors = np.linalg.eig(lifted)
-    # the K roots z of each rho are 2 pi/K apart in angle: exactly one lies in
-    # the half-open sector (-pi/K, pi/K] (a negative rho has two on its edges;
-    # the sector is turned a little so that round-off cannot take both)
-    turn = 1e-7 * np.pi / k_parts
-    angle = np.angle(values * np.exp(-1j * turn))
-    pick = np.flatnonzero((angle > -np.pi / k_parts) & (angle <= np.pi / k_parts))
-    if len(pick) != m:  # round-off at an edge after all: the m nearest the middle
-        pick = np.argsort(np.abs(angle), kind="stable")[:m]
-    return values[pick], vectors[:, pick].reshape(k_parts, m, m)
 
 
 def _group(parts, k):
