@@ -335,3 +335,28 @@ def test_envelope_of_a_growing_oscillation_grows_at_its_rate():
     assert np.all(env >= 0.5 * np.abs(signal_))
     slope = np.polyfit(t[t > 5], np.log(env[t > 5]), 1)[0]
     assert abs(slope - sigma) < 2e-3  # peaks sit within a period of the fit: a few 1e-3 of sigma
+
+
+def test_an_output_folder_that_cannot_be_moved_aside_is_a_clear_error(tmp_path, monkeypatch):
+    """A mount point or an immutable folder cannot be renamed: exit-2 error naming the folder,
+    the folder as it was, and no hidden folder left beside it."""
+    import errno
+    import os
+
+    from groundres import folders
+
+    target = tmp_path / "out"
+    target.mkdir()
+    real = os.rename
+
+    def rename(src, dst):
+        if ".groundres-old-" in str(dst):
+            raise OSError(errno.EBUSY, "Device or resource busy")
+        return real(src, dst)
+
+    monkeypatch.setattr(folders.os, "rename", rename)
+    with pytest.raises(folders.OutputFolderError, match="cannot be replaced.*give a folder inside it"):
+        with folders.output_folder(target) as fresh:
+            (fresh / "a.txt").write_text("x")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert list(target.iterdir()) == []

@@ -141,6 +141,7 @@ def test_report_svg_and_a_study_folder(tmp_path):
     )
     ds.to_netcdf(study / "study.nc")
     (study / "case.toml").write_text(SMALL.replace("lag_damping = 0.0", "lag_damping = 4067.5"))
+    (study / "provenance.json").write_text('{"generator": "groundres", "command": "study"}')
     from matplotlib.figure import Figure
 
     fig = Figure()
@@ -176,9 +177,20 @@ def test_report_refuses_an_unreadable_study_before_any_work(tmp_path):
     study = tmp_path / "study"
     study.mkdir()
     (study / "study.nc").write_bytes(b"not a netCDF file")
+    (study / "provenance.json").write_text('{"generator": "groundres", "command": "study"}')
     res = cli("report", "hammond-1974", "--study", str(study), "--out", str(tmp_path / "r"))
     assert res.exit_code == 2
     assert "study.nc cannot be read" in res.output and "Traceback" not in res.output
+    assert not (tmp_path / "r").exists()
+
+
+def test_report_refuses_a_folder_that_is_no_study(tmp_path):
+    """A NetCDF file named study.nc in a folder no study wrote (here a run's modes.nc) is refused."""
+    run = tmp_path / "run"
+    assert cli("run", "hammond-1974", "--out", str(run)).exit_code == 0
+    (run / "modes.nc").rename(run / "study.nc")
+    res = cli("report", "hammond-1974", "--study", str(run), "--out", str(tmp_path / "r"))
+    assert res.exit_code == 2 and "not the --out folder of a groundres study" in res.output
     assert not (tmp_path / "r").exists()
 
 
@@ -294,3 +306,41 @@ def test_gallery_whole(tmp_path):
         r"^\| (\d+) \| `([^`]+)` \| .* \| (agrees in kind|agrees|differs|nothing to compare) \|$", text, re.M
     )
     assert {int(n): (c, v) for n, c, v in rows} == {n: (f["case"], f["verdict"]) for n, f in figures.items()}
+
+
+def test_control_characters_of_a_title_reach_neither_the_page_nor_the_terminal(tmp_path):
+    """BEL, ESC and NUL in a title: dropped from the HTML (NUL is not allowed there) and the console."""
+    case = tmp_path / "ctrl.toml"
+    case.write_text(
+        SMALL.replace('title = "Small <b>case</b> & friends"', 'title = "a\\u0007b\\u001b[31mc\\u0000d"')
+    )
+    out = tmp_path / "r"
+    res = cli("report", str(case), "--out", str(out))
+    assert res.exit_code == 0, res.output
+    page = (out / "index.html").read_text()
+    assert not any(ch in page for ch in "\x00\x07\x1b")
+    assert "ab[31mcd" in page
+    page_facts(out / "index.html")  # still valid
+    assert not any(ch in res.output for ch in "\x00\x07\x1b")
+
+
+@pytest.mark.parametrize("limits", ["1e308:1.7e308", "-1e308:1e308", "0:1e-101"])
+def test_limits_too_large_or_too_narrow_for_an_axis_exit_2(tmp_path, limits):
+    res = cli("report", "hammond-1974", "--real-limits", limits, "--out", str(tmp_path / "r"))
+    assert res.exit_code == 2 and "--real-limits" in res.output and "1e+100" in res.output
+    assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize("reference", ["1e-300", "1e300"])
+def test_a_reference_speed_far_out_of_scale_reports_without_overflow(tmp_path, reference):
+    """The lag frequency at the reference speed is divided by the speed twice, never squared: a
+    reference of 1e-300 or 1e300 rpm gives a number or a reasoned null, not an overflow."""
+    case = tmp_path / "ref.toml"
+    text = SMALL.replace("lag_damping = 0.0", "lag_damping = 4067.5").replace(
+        "reference = 155.0", f"reference = {reference}"
+    )
+    case.write_text(text)
+    res = cli("report", str(case), "--out", str(tmp_path / "r"))
+    assert res.exit_code == 0, res.output
+    entry = json.loads((tmp_path / "r" / "summary.json").read_text())["lag_frequency_at_reference"]
+    assert entry["value"] is not None or entry["value_reason"]

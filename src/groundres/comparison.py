@@ -208,7 +208,7 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
     >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
     >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
     """
-    from .analysis import analyze
+    from .analysis import MethodError, analyze
     from .config import load_case
 
     cases = [c if isinstance(c, Case) else load_case(c) for c in cases]
@@ -226,7 +226,11 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
             same = next((r for c, m, r in done if c == case and c.text == case.text and m == method), None)
             if same is None:
                 report = progress and (lambda stage, d, t, number=number: progress(number, stage, d, t))
-                same = analyze(case, frame=frame, method=method, progress=report)
+                try:
+                    same = analyze(case, frame=frame, method=method, progress=report)
+                except MethodError as err:  # (which entry could not be analysed so)
+                    asked = f" by method {method!r}" if method else ""
+                    raise MethodError(f"entry {number} ({case_name(case)}{asked}): {err}") from None
                 done.append((case, method, same))
             plan.append((k, method, same))
     details = _details([r for _, _, r in plan])

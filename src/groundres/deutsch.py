@@ -220,7 +220,10 @@ def lag_frequency_per_rev(rotor: Rotor, rotor_speed: float) -> float:
     """Rotating cyclic lag frequency nu [per rev] of the average blade at ``rotor_speed`` [rad/s]:
     nu^2 = (K_lag + rods) / (I Omega^2) + e S / I (the nu of the Deutsch criterion)."""
     k1, k2 = _lag_spring(rotor, average_blade(rotor))
-    return math.sqrt(k1 / rotor_speed**2 + k2) if rotor_speed > 0 else math.inf
+    if not rotor_speed > 0:
+        return math.inf
+    # (divided twice, not by the square: a speed of 1e-200 or 1e200 rad/s must not under- or overflow)
+    return math.sqrt(k1 / rotor_speed / rotor_speed + k2)
 
 
 def deutsch(rotor: Rotor, body: Body) -> list[DeutschEntry]:

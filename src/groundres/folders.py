@@ -157,7 +157,15 @@ def _swap(fresh: Path, target: Path, given) -> None:
     aside = tempfile.mkdtemp(
         dir=target.parent, prefix=f"{_HIDDEN}old-{os.getpid()}-", suffix=f"-{target.name}"
     )
-    os.rename(target, aside)  # (onto the empty folder just made: a unique name)
+    try:
+        os.rename(target, aside)  # (onto the empty folder just made: a unique name)
+    except OSError as err:  # a mount point, an immutable folder: it cannot be moved aside
+        os.rmdir(aside)
+        raise OutputFolderError(
+            f"output folder {given}: cannot be replaced ({err.strerror or err}; a mount point or a "
+            "folder that may not be moved): give a folder inside it, e.g. --out "
+            f"{os.path.join(str(given), 'results')}"
+        ) from None
     try:
         os.rename(fresh, target)
     except BaseException:

@@ -109,11 +109,13 @@ def _lag_frequency_at(rotor, speed) -> dict:
         "blade at the reference speed: below 1 soft in plane (ground resonance possible), above 1 stiff",
     }
     put(entry, "speed", speed, "no reference speed in the case")
+    if not speed:
+        return put(entry, "value", None, "no reference speed in the case")
     return put(
         entry,
         "value",
-        lag_frequency_per_rev(rotor, speed) if speed else None,
-        "no reference speed in the case",
+        lag_frequency_per_rev(rotor, speed),
+        "the reference speed is too small: the lag spring's share K_lag / (I Omega^2) overflows",
     )
 
 

@@ -102,8 +102,10 @@ def case_at_speed(case: str | None, speed: float):
 def load(case: str | None):
     from ..config import CaseError, load_case
 
+    if case is not None and not case.strip():
+        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name (none: the default case)")
     try:
-        return load_case(case or DEFAULT_CASE)
+        return load_case(case if case is not None else DEFAULT_CASE)
     except CaseError as err:
         fail_user(str(err))
 
@@ -217,7 +219,11 @@ class Steps:
 
 
 def plain(text) -> str:
-    """User text (a title, a label) made safe to print through rich: markup shown literally."""
+    """User text (a title, a label) made safe to print through rich: markup shown literally, and no
+    control character but line ends and tabs (an escape sequence in a title must not drive the terminal)."""
+    import unicodedata
+
     from rich.markup import escape
 
-    return escape(str(text))
+    text = "".join(ch for ch in str(text) if ch in "\n\t" or unicodedata.category(ch) != "Cc")
+    return escape(text)

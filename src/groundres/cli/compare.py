@@ -13,7 +13,6 @@ from .common import (
     fail_user,
     fmt_speed,
     invocation,
-    load,
     make_console,
     out_option,
     output_dir,
@@ -91,7 +90,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
             f"{len(cases)} case and {len(methods)} method make one entry: compare needs two or more; "
             "give two or more CASEs, or --method twice (e.g. --method eigen --method floquet)"
         )
-    loaded = [load(case) for case in cases]
+    loaded = [_load(case) for case in cases]
     check_reference(loaded[0], speed_axis, "the first case")
     out_dir = output_dir(cases[0], out, "compare")
     check_out(out_dir)
@@ -125,6 +124,20 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
                 **invocation(),
             )
     _print(console, comparison, rows, out_dir, fmt)
+
+
+def _load(case: str):
+    """A CASE argument as a case; an error names the argument (compare reads several)."""
+    from ..checks import shown as show
+    from ..config import CaseError, load_case
+
+    if not case.strip():
+        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name")
+    try:
+        return load_case(case)
+    except CaseError as err:
+        message = str(err)
+        fail_user(message if case in message else f"CASE {show(case)}: {message}")
 
 
 def _entry_record(entry, cases) -> dict:

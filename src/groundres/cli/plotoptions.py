@@ -12,6 +12,7 @@ import math
 
 import click
 
+from ..checks import shown
 from .common import fail_user
 
 #: --speed-axis choices (as groundres.plotting.axes.SPEED_AXES, not imported: the CLI starts light).
@@ -76,11 +77,18 @@ def parse_limits(text: str | None, option: str):
     except ValueError:
         values = None
     if not sep or values is None:
-        fail_user(f"{option} {text!r}: not two numbers; {allowed}")
+        fail_user(f"{option} {shown(text)}: not two numbers; {allowed}")
     if not all(math.isfinite(v) for v in values):
-        fail_user(f"{option} {text!r}: both numbers must be finite; {allowed}")
+        fail_user(f"{option} {shown(text)}: both numbers must be finite; {allowed}")
     if not values[0] < values[1]:
-        fail_user(f"{option} {text!r}: LOW must be below HIGH; {allowed}")
+        fail_user(f"{option} {shown(text)}: LOW must be below HIGH; {allowed}")
+    from ..plotting.axes import LIMIT_SIZE
+
+    if max(map(abs, values)) > LIMIT_SIZE or values[1] - values[0] < 1 / LIMIT_SIZE:
+        fail_user(
+            f"{option} {shown(text)}: the numbers must lie within +-{LIMIT_SIZE:g} and HIGH - LOW be at "
+            f"least {1 / LIMIT_SIZE:g}; {allowed}"
+        )
     return values
 
 
@@ -97,7 +105,7 @@ def check_modes(modes, labels, what: str = "a mode of this case") -> list[str] |
     """The --modes labels (None: all), each one of ``labels``; a one-line error otherwise."""
     for label in modes:
         if label not in labels:
-            fail_user(f"--modes {label!r}: not {what}; choose from {', '.join(labels)}")
+            fail_user(f"--modes {shown(label)}: not {what}; choose from {', '.join(labels)}")
     return list(dict.fromkeys(modes)) or None
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from ..checks import shown
 from .common import (
     FORMAT,
     Steps,
@@ -37,12 +38,25 @@ def study_folder(path: str) -> Path:
             f"--study {path!r}: holds neither study.nc nor boundary.nc; give the --out folder of a "
             f"groundres study"
         )
+    import json
+
     import xarray as xr
 
     try:
+        record = json.loads((folder / "provenance.json").read_text(encoding="utf-8"))
+        ours = record.get("generator") == "groundres" and record.get("command") == "study"
+    except (OSError, ValueError, AttributeError):
+        ours = False
+    if not ours:
+        fail_user(
+            f"--study {path!r}: not the --out folder of a groundres study (its provenance.json does "
+            "not say so)"
+        )
+    try:
         xr.open_dataset(data[0]).close()
     except Exception as err:  # noqa: BLE001 - any unreadable file is the user's to fix
-        fail_user(f"--study {path!r}: {data[0].name} cannot be read ({type(err).__name__}: {err})")
+        first = str(err).strip().splitlines()[0] if str(err).strip() else ""
+        fail_user(f"--study {path!r}: {data[0].name} cannot be read ({type(err).__name__}: {shown(first)})")
     return folder
 
 
@@ -84,7 +98,8 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     mode at the worst speed, the case text, and the method with its accuracy
     figures; with --study, the study's map. Pictures are embedded (the page
     opens offline and prints cleanly) and also written beside it in --format;
-    summary.json holds every number the page shows.
+    summary.json holds the sweep's numbers the page shows (the phasor
+    table is of the eigenvector at the speed shown; a study's figures are its folder's).
     """
     console = make_console()
     plot = {

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import base64
 import io
+import unicodedata
 from datetime import UTC, datetime
 
 from markupsafe import Markup, escape
@@ -27,7 +28,16 @@ def environment():
         keep_trailing_newline=True,
     )
     env.globals["num"] = number
+    env.finalize = printable
     return env
+
+
+def printable(value):
+    """What a page prints of a value: control characters (which HTML forbids or no browser shows) dropped
+    from user text, tabs and line ends kept; the page's own markup (Markup) as it is."""
+    if isinstance(value, str) and not isinstance(value, Markup):
+        return "".join(ch for ch in value if ch in "\t\n\r" or unicodedata.category(ch) != "Cc")
+    return value
 
 
 def render(template: str, **context) -> str:

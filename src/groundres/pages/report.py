@@ -220,9 +220,15 @@ def study_section(folder: Path, case_text: str) -> dict:
                 if "stable" in ds:
                     stable = ds["stable"].values
                     facts.append(("stable points", f"{int(np.sum(stable == 1))} of {stable.size}"))
+                if "error" in ds:
+                    failed = int(sum(bool(str(e)) for e in np.ravel(ds["error"].values)))
+                    if failed:
+                        facts.append(("points that failed", f"{failed} (see the study's error variable)"))
                 if name == "boundary.nc":
                     for var in ds.data_vars:
-                        facts.append((f"found: {var}", _span(ds[var].values, ds[var].attrs.get("units", ""))))
+                        values = ds[var].values
+                        if values.dtype.kind in "fi":  # (flags and messages are not results to show)
+                            facts.append((f"found: {var}", _span(values, ds[var].attrs.get("units", ""))))
             break
     return {
         "folder": str(folder),

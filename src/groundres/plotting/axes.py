@@ -49,6 +49,11 @@ def _no_reference(sweep) -> str:
     return f"the case's reference speed ({sweep.reference:g} rad/s) is too small to divide by"
 
 
+#: Largest size of an axis limit, and the inverse of the smallest span: far beyond any axis of the
+#: model (its rates stay below about 1e10 1/s) and well inside what the plotting library can tick.
+LIMIT_SIZE = 1e100
+
+
 def checked_limits(value, name: str):
     """``value`` (LOW, HIGH) as two floats, LOW < HIGH, both finite; ValueError naming ``name``."""
     try:
@@ -59,6 +64,11 @@ def checked_limits(value, name: str):
         raise ValueError(f"{name}={value!r}: both numbers must be finite")
     if not low < high:
         raise ValueError(f"{name}={value!r}: LOW must be below HIGH")
+    if max(abs(low), abs(high)) > LIMIT_SIZE or high - low < 1 / LIMIT_SIZE:
+        raise ValueError(
+            f"{name}={value!r}: the numbers must lie within +-{LIMIT_SIZE:g} and HIGH - LOW be at "
+            f"least {1 / LIMIT_SIZE:g}"
+        )
     return low, high
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..params import FREQUENCY_UNITS, SPEED_UNITS
+from ..stability import growth_threshold
 from .axes import checked_limits, checked_modes, speed_scale
 from .coleman import label_stretches
 from .titles import figure_title, literal
@@ -112,15 +113,20 @@ def overlay_diagram(
     shown = checked_modes(modes, comparison.labels)
     factor, unit = speed_scale(*results, kind=speed_axis)
     n = len(entries)
-    grows = [r.stability.unstable_ranges for r in results]
     lowers = [r.damping_ratio if show_damping_ratio else r.real_part for r in results]
     columns = [[r.labels.index(lab) for lab in shown if lab in r.labels] for r in results]
     finite = np.concatenate(
         [lower[:, c][np.isfinite(lower[:, c])].ravel() for lower, c in zip(lowers, columns)]
     )
     span = float(finite.max() - finite.min()) if finite.size else 0.0
-    bump = max((float(r.real_part[:, c].max()) for r, c in zip(results, columns) if c), default=0.0)
-    zoom = (not show_damping_ratio) and real_limits is None and any(grows) and 0 < bump < _SMALL_BUMP * span
+    # (the growth of the modes shown, above the growth threshold: round-off never earns a panel)
+    growing = [
+        np.where(r.real_part[:, c] > growth_threshold(r.rotor_speed)[:, None], r.real_part[:, c], 0.0)
+        for r, c in zip(results, columns)
+        if c
+    ]
+    bump = max((float(g.max()) for g in growing), default=0.0)
+    zoom = (not show_damping_ratio) and real_limits is None and 0 < bump < _SMALL_BUMP * span
     heights = [3, 2] + ([1.2] if zoom else []) + [0.35 + 0.22 * n]
     if fig is None:
         from matplotlib.figure import Figure
