@@ -464,9 +464,10 @@ def test_the_largest_number_is_written_as_a_float(tmp_path):
 def test_picture_titles_drop_control_characters_and_stay_short():
     """A title with an escape character warned that no font has the glyph, and one
     of 100000 characters took minutes to lay out."""
-    from groundres.plotting.titles import TITLE_LENGTH, figure_title
+    from groundres.plotting.titles import TITLE_LENGTH, TITLE_LINE, figure_title
 
     assert figure_title("rotor \x1b[31mred\x07") == "rotor [31mred"
     long = figure_title("W" * 100000)
-    assert len(long) == TITLE_LENGTH and long.endswith("\u2026")
+    assert len(long.replace("\n", "")) == TITLE_LENGTH and long.endswith("\u2026")
+    assert max(len(line) for line in long.split("\n")) <= TITLE_LINE  # (broken into lines that fit)
     assert figure_title("Hammond (1974) rotor") == "Hammond (1974) rotor"

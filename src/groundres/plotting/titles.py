@@ -7,10 +7,14 @@ file's stem) has every ``$`` escaped, so that it shows as typed.
 
 from __future__ import annotations
 
+import textwrap
 import unicodedata
 
 #: Longest case title a picture shows [characters]; a longer one is cut with an ellipsis.
 TITLE_LENGTH = 150
+#: Longest line of a title [characters]: a longer title is broken into lines (the narrowest
+#: picture, the Coleman diagram's frequency panel, holds about 100 characters at its title's size).
+TITLE_LINE = 90
 
 
 def _drawable(text) -> str:
@@ -31,8 +35,9 @@ def literal(text: str) -> str:
 
 
 def figure_title(text: str) -> str:
-    """A case title as a picture shows it: as :func:`literal`, and cut to
+    """A case title as a picture shows it: as :func:`literal`, cut to
     :data:`TITLE_LENGTH` characters (matplotlib lays out a long title slowly, and
-    it would not fit the figure)."""
-    text = _drawable(text)
-    return _escaped(text if len(text) <= TITLE_LENGTH else text[: TITLE_LENGTH - 1] + "\u2026")
+    it would not fit the figure) and broken into lines of :data:`TITLE_LINE`."""
+    text = " ".join(_drawable(text).split())
+    text = text if len(text) <= TITLE_LENGTH else text[: TITLE_LENGTH - 1] + "\u2026"
+    return _escaped("\n".join(textwrap.wrap(text, TITLE_LINE)) or text)
