@@ -1,4 +1,5 @@
-"""Speeds and frequencies as people read them: in the case's unit, with the ratio to the reference speed.
+"""Numbers as people read them: speeds and frequencies in the case's unit, with the ratio to the
+reference speed, and values to the digits their accuracy supports.
 
 Data files stay SI (rad/s); what a person reads, on the terminal or on a page,
 is in the case's ``[sweep] unit`` (rpm, Hz or rad/s; frequencies of an rpm
@@ -6,6 +7,8 @@ case in cycles/min) with "ref", the ratio to the case's reference speed.
 """
 
 from __future__ import annotations
+
+import math
 
 from .params import FREQUENCY_UNITS, SPEED_UNITS
 
@@ -30,3 +33,8 @@ def ref_note(sweep) -> str | None:
     if not sweep.reference:
         return None
     return f"ref: rotor speed / the case's reference speed, {fmt_speed(sweep.reference, sweep, ref=False)}."
+
+
+def significant(value: float, rtol: float) -> str:
+    """``value`` to the digits its relative tolerance ``rtol`` supports (1e-4: 4 significant digits)."""
+    return f"{value:.{max(1, round(-math.log10(rtol)))}g}"

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ._version import __version__
+from .damping_search import RTOL
 from .deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
 from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 from .system import searched
@@ -189,6 +190,7 @@ def summary(result) -> dict:
     lag["exact_minimum_searched"] = "damper rods" if on_rods else "blade lag dampers"
     lag["exact_minimum_unit"] = "N s/m" if on_rods else "N m s/rad"
     put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
+    lag["exact_minimum_relative_tolerance"] = RTOL["floquet" if result.method == "floquet" else "eigen"]
     lag["exact_minimum_note"] = (
         "smallest damping, set on every working damper of the kind searched (the damper rods' "
         "damping along the rod where the case has rods, else each blade's lag damper; on every "

@@ -9,6 +9,7 @@ values within the growth threshold of zero print as neutral, not as numbers
 from __future__ import annotations
 
 from ..params import FREQUENCY_UNITS
+from ..readout import significant
 from ..summary import no_exact_reason, open_below_note
 from .common import fmt_speed, plain, ref_note
 
@@ -250,7 +251,8 @@ def print_result(console, result, out_dir, fmt: str = "png") -> None:
     elif exact == 0:
         console.print(f"Exact minimum {what}: 0, the sweep is stable without it ({installed}).")
     else:
-        console.print(f"Exact minimum {what} (on {which}, from the roots): {exact:.5g} {unit} ({installed}).")
+        shown = significant(exact, lag["exact_minimum_relative_tolerance"])
+        console.print(f"Exact minimum {what} (on {which}, from the roots): {shown} {unit} ({installed}).")
     console.print(
         f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.{fmt}, case.toml, provenance.json"
     )

@@ -9,6 +9,8 @@ from datetime import UTC, datetime
 
 from markupsafe import Markup, escape
 
+from ..readout import significant
+
 #: MIME types of the pictures a page can embed.
 MIME = {"png": "image/png", "svg": "image/svg+xml", "gif": "image/gif", "jpeg": "image/jpeg"}
 #: Resolution of embedded raster pictures [dots per inch].
@@ -28,6 +30,7 @@ def environment():
         keep_trailing_newline=True,
     )
     env.globals["num"] = number
+    env.globals["significant"] = significant
     env.finalize = printable
     return env
 
