@@ -338,7 +338,7 @@ def report_page(
         "unit_note": (
             f"Speeds in {sweep.unit}"
             + (f", with their ratio to the reference speed {reference} (ref)" if sweep.reference else "")
-            + "; every number is also in summary.json beside this page, in SI units."
+            + "; the sweep's numbers are also in summary.json beside this page, in SI units."
         ),
     }
     return render("report.html", **context), files
