@@ -300,6 +300,11 @@ def _largest(*speeds) -> float:
     return max((abs(w) for w in speeds if w is not None and math.isfinite(w)), default=0.0)
 
 
+def overlaps(a: tuple, b: tuple) -> bool:
+    """Whether two ranges (start, end) share speeds."""
+    return a[0] <= b[1] and b[0] <= a[1]
+
+
 def pair_ranges(first, second):
     """Pairs of overlapping ranges, in speed order: [(a or None, b or None), ...].
 
@@ -310,7 +315,7 @@ def pair_ranges(first, second):
     while i < len(first) or j < len(second):
         a = first[i] if i < len(first) else None
         b = second[j] if j < len(second) else None
-        if a is not None and b is not None and a[0] <= b[1] and b[0] <= a[1]:
+        if a is not None and b is not None and overlaps(a, b):
             pairs.append((a, b))
             i, j = i + 1, j + 1
         elif b is None or (a is not None and a[1] < b[0]):

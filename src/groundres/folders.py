@@ -20,7 +20,7 @@ import tempfile
 import threading
 from pathlib import Path
 
-from .io import atomic_path, current_umask, strict, write_json
+from .io import current_umask, strict, write_bytes, write_json
 
 #: The file that marks a folder as groundres output (and lists its files).
 PROVENANCE = "provenance.json"
@@ -273,8 +273,7 @@ def write_provenance(
     folder = Path(folder)
     data = case.text.encode("utf-8")
     if case.text:
-        with atomic_path(folder / CASE_COPY) as tmp:
-            tmp.write_bytes(data)
+        write_bytes(folder / CASE_COPY, data)
 
     def version(name):
         try:

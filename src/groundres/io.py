@@ -61,6 +61,12 @@ def write_text(path: str | Path, text: str) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
+def write_bytes(path: str | Path, data: bytes) -> None:
+    """Write bytes atomically (a picture made in memory, a case text as read)."""
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(data)
+
+
 def strict(obj):
     """``obj`` with every NaN or infinity replaced by None.
 

@@ -66,6 +66,12 @@ class SweepResult:
     accuracy: dict | None = None
 
     @property
+    def method_option(self) -> str:
+        """The ``method`` of :func:`groundres.analysis.analyze` that repeats this analysis:
+        "floquet", or "eigen" for either time-invariant form."""
+        return "floquet" if self.method == "floquet" else "eigen"
+
+    @property
     def labels(self) -> list[str]:
         return self.modes.labels
 

@@ -177,6 +177,11 @@ class ModeShape:
         return bool(is_neutral(self.eigenvalue.real, self.rotor_speed))
 
     @property
+    def state(self) -> str:
+        """ "growing", "neutral" or "decaying", by the growth threshold."""
+        return "growing" if self.unstable else ("neutral" if self.neutral else "decaying")
+
+    @property
     def vector(self) -> np.ndarray:
         """Amplitudes at the identified harmonic (the nonrotating mode shape)."""
         return self.harmonics[:, int(np.flatnonzero(self.orders == 0)[0])]

@@ -99,15 +99,22 @@ def case_at_speed(case: str | None, speed: float):
     return the_case, w
 
 
-def load(case: str | None):
+def load(case: str | None, named: bool = False):
+    """The CASE argument as a case (None: the default case); a bad one is a one-line error, exit 2.
+
+    ``named``: the message names the argument (for commands that read several cases).
+    """
+    from ..checks import shown
     from ..config import CaseError, load_case
 
     if case is not None and not case.strip():
-        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name (none: the default case)")
+        default = "" if named else " (none: the default case)"
+        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name{default}")
     try:
         return load_case(case if case is not None else DEFAULT_CASE)
     except CaseError as err:
-        fail_user(str(err))
+        message = str(err)
+        fail_user(f"CASE {shown(case)}: {message}" if named and case not in message else message)
 
 
 def out_option(default: str):

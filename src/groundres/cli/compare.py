@@ -13,6 +13,7 @@ from .common import (
     fail_user,
     fmt_speed,
     invocation,
+    load,
     make_console,
     out_option,
     output_dir,
@@ -90,7 +91,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
             f"{len(cases)} case and {len(methods)} method make one entry: compare needs two or more; "
             "give two or more CASEs, or --method twice (e.g. --method eigen --method floquet)"
         )
-    loaded = [_load(case) for case in cases]
+    loaded = [load(case, named=True) for case in cases]
     check_reference(loaded[0], speed_axis, "the first case")
     out_dir = output_dir(cases[0], out, "compare")
     check_out(out_dir)
@@ -114,8 +115,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
             warm.join()
             io.write_figure(comparison.plot(**plot), folder / f"compare.{fmt}")
             for k, case in enumerate(loaded[1:], start=2):
-                with io.atomic_path(folder / f"case-{k}.toml") as tmp:
-                    tmp.write_bytes(case.text.encode("utf-8"))
+                io.write_bytes(folder / f"case-{k}.toml", case.text.encode("utf-8"))
             folders.write_provenance(
                 folder,
                 loaded[0],
@@ -124,20 +124,6 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
                 **invocation(),
             )
     _print(console, comparison, rows, out_dir, fmt)
-
-
-def _load(case: str):
-    """A CASE argument as a case; an error names the argument (compare reads several)."""
-    from ..checks import shown as show
-    from ..config import CaseError, load_case
-
-    if not case.strip():
-        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name")
-    try:
-        return load_case(case)
-    except CaseError as err:
-        message = str(err)
-        fail_user(message if case in message else f"CASE {show(case)}: {message}")
 
 
 def _entry_record(entry, cases) -> dict:

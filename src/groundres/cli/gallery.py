@@ -73,8 +73,7 @@ def command(out, fmt, figures):
         meta = invocation()
         with steps.step("page"), folders.output_folder(out_dir) as folder:
             for name, content in files.items():
-                with io.atomic_path(folder / name) as tmp:
-                    tmp.write_bytes(content)
+                io.write_bytes(folder / name, content)
             io.write_json(folder / "gallery.json", data["json"])
             io.write_text(folder / "index.html", gallery_page(data, shlex.join(["groundres", *meta["argv"]])))
             folders.write_provenance(folder, _GalleryCase(), command="gallery", figures=list(numbers), **meta)

@@ -8,8 +8,6 @@ option, the value and what is allowed (exit 2).
 
 from __future__ import annotations
 
-import math
-
 import click
 
 from ..checks import shown
@@ -78,18 +76,12 @@ def parse_limits(text: str | None, option: str):
         values = None
     if not sep or values is None:
         fail_user(f"{option} {shown(text)}: not two numbers; {allowed}")
-    if not all(math.isfinite(v) for v in values):
-        fail_user(f"{option} {shown(text)}: both numbers must be finite; {allowed}")
-    if not values[0] < values[1]:
-        fail_user(f"{option} {shown(text)}: LOW must be below HIGH; {allowed}")
-    from ..plotting.axes import LIMIT_SIZE
+    from ..plotting.axes import checked_limits  # (the same rules as from Python)
 
-    if max(map(abs, values)) > LIMIT_SIZE or values[1] - values[0] < 1 / LIMIT_SIZE:
-        fail_user(
-            f"{option} {shown(text)}: the numbers must lie within +-{LIMIT_SIZE:g} and HIGH - LOW be at "
-            f"least {1 / LIMIT_SIZE:g}; {allowed}"
-        )
-    return values
+    try:
+        return checked_limits(values, option)
+    except ValueError as err:  # (its reason, after the name and value it repeats)
+        fail_user(f"{option} {shown(text)}: {str(err).split(': ', 1)[1]}; {allowed}")
 
 
 def check_reference(case, speed_axis: str, name: str = "the case") -> None:

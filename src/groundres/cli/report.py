@@ -148,8 +148,7 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
             )
             io.write_summary(result, folder / "summary.json")
             for file_name, data in files.items():
-                with io.atomic_path(folder / file_name) as tmp:
-                    tmp.write_bytes(data)
+                io.write_bytes(folder / file_name, data)
             io.write_text(folder / "index.html", html)
             folders.write_provenance(
                 folder,

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..comparison import SPEED_ROUND_OFF
 from .figures import FIGURES, NUMBERS, Figure, figure
 from .verdicts import (
     QUADRATURE_TOLERANCE,
@@ -89,12 +90,6 @@ def _coleman(fig: Figure, results: _Results, fmt: str, files: dict, record: dict
     return {"pictures": pictures, "extra": extra, "verdict": verdict}
 
 
-#: Range ends of two analyses of one case agree to round-off within this share of the speed: the ends
-#: are found by root finding to 1e-10 relative on roots accurate to about 1e-9 (Floquet transition
-#: matrices to 5e-11), so 1e-7 leaves a hundredfold margin.
-ROUND_OFF = 1e-7
-
-
 def _same_as(fig: Figure, main, results: _Results, verdict: Verdict, record: dict) -> str:
     """The analysis of ``fig`` against that of the figure it repeats by another method (to round-off)."""
     twin = figure(fig.equals)
@@ -103,10 +98,10 @@ def _same_as(fig: Figure, main, results: _Results, verdict: Verdict, record: dic
     same = len(mine) == len(theirs)
     worst = max((abs(a - b) / b for r, q in zip(mine, theirs) for a, b in zip(r, q)), default=0.0)
     record["range_difference_from_figure"] = {"figure": twin.number, "relative": worst if same else None}
-    if same and worst <= ROUND_OFF:
+    if same and worst <= SPEED_ROUND_OFF:
         return (
             f"Its range ends equal those of the {other.method} analysis of Figure {twin.number} to round-off "
-            f"(relative difference under {ROUND_OFF:g})."
+            f"(relative difference under {SPEED_ROUND_OFF:g})."
         )
     verdict.word = "differs"
     verdict.reason += f" The {main.method} and {other.method} analyses of the same case disagree."
@@ -137,9 +132,9 @@ def _smeared_verdict(fig: Figure, main) -> Verdict:
 
 
 def _phasors(fig: Figure, results: _Results, fmt: str, files: dict, record: dict) -> dict:
-    from ..cli.common import fmt_speed
     from ..config import load_case
     from ..plotting.phasors import phasor_diagram
+    from ..readout import fmt_speed
 
     case = load_case(fig.case)
     ws = speeds_si(fig, case)
@@ -164,7 +159,7 @@ def _phasors(fig: Figure, results: _Results, fmt: str, files: dict, record: dict
                 "speed_text": text,
                 "mode": label,
                 "real_part": shape.eigenvalue.real,
-                "state": "growing" if shape.unstable else ("neutral" if shape.neutral else "decaying"),
+                "state": shape.state,
                 "in_phase": in_phase_part(shape),
                 "placed": speed_place(shape.rotor_speed, ranges, where),
             }

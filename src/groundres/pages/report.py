@@ -97,7 +97,7 @@ def at_speed(result, w: float):
     return analyze(
         result.case,
         frame=result.frame,
-        method="floquet" if result.method == "floquet" else "eigen",
+        method=result.method_option,
         speeds=np.union1d(result.rotor_speed, [w]),
         lag_damping_search=False,
     )
@@ -131,7 +131,7 @@ def phasor_section(result, summary: dict, fmt: str) -> dict | None:
         "label": label,
         "why": why,
         "speed": text,
-        "state": "growing" if shape.unstable else ("neutral" if shape.neutral else "decaying"),
+        "state": shape.state,
         "lead": "90" if shape.neutral else f"{np.degrees(np.angle(lam)):.2f}",
         "picture": picture(phasor_diagram(shape, speed_text=text), fmt),
         "rows": rows,

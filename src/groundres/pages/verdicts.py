@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..comparison import overlaps
 from ..params import SPEED_UNITS
 
 #: Largest difference of a range end from the paper's, in units of the reference speed, that
@@ -51,11 +52,6 @@ def ranges_text(ranges) -> str:
         return "stable over the whole sweep"
     parts = [f"{s:.3f} to {e:.3f}" for s, e in ranges]
     return f"unstable from {' and from '.join(parts)} times the reference speed"
-
-
-def overlaps(a: tuple, b: tuple) -> bool:
-    """Whether two ranges share speeds."""
-    return a[0] <= b[1] and b[0] <= a[1]
 
 
 def compare_ranges(expected, result, chosen: str = "") -> Verdict:
