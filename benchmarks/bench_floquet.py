@@ -1,7 +1,7 @@
 """Floquet sweep of the Hammond (1974) one-damper-inoperative case against a
 per-speed SciPy integration of the transition matrix.
 
-groundres: ``floquet.solve`` over the shipped case's 400 speeds (fixed-grid
+groundres: ``exponents.solve`` over the shipped case's 400 speeds (fixed-grid
 sixth-order Runge-Kutta, step propagators formed for all steps and speeds at
 once, step count per speed set by a Richardson error estimate).
 
@@ -13,7 +13,7 @@ adds five matrices and solves with the mass matrix.
 Both are checked against a tight reference (DOP853, rtol 1e-13) at a few
 speeds: multipliers to 1e-9 (relative to max(1, |mu|)).
 Run in the default environment (BLAS with its own threads): groundres keeps
-BLAS single-threaded inside its own thread pool (groundres.parallel).
+BLAS single-threaded inside its own thread pool (groundres.solve.parallel).
 
 Run: python3 benchmarks/bench_floquet.py [--baseline-speeds N]
 """
@@ -25,9 +25,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
-from groundres import analyze, floquet, load_case, propagate
-from groundres.simulate import harmonic_matrices
-from groundres.system import System
+from groundres import analyze, load_case
+from groundres.model.system import System
+from groundres.solve.floquet import compiled, exponents
+from groundres.solve.simulate import harmonic_matrices
 
 
 def baseline_monodromy(system, speed, rtol=1e-10):
@@ -59,29 +60,29 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--baseline-speeds", type=int, default=400, help="speeds timed for the baseline")
     args = parser.parse_args()
-    propagate.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
+    compiled.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
     case = load_case("hammond-1974-one-damper")
     system = System(case.rotor, case.body)
     speeds = case.sweep.speeds
-    floquet.solve(system, speeds[:4], harmonics=0)  # generated code and thread pool warm
+    exponents.solve(system, speeds[:4], harmonics=0)  # generated code and thread pool warm
     times = []
     for _ in range(3):
         system = System(case.rotor, case.body)  # no cached grids between runs
         t = time.perf_counter()
-        sol = floquet.solve(system, speeds, harmonics=0)
+        sol = exponents.solve(system, speeds, harmonics=0)
         times.append(time.perf_counter() - t)
     ours = min(times)
     # the integrator choice: the same sweep with Butcher's sixth-order method
     system = System(case.rotor, case.body)
     t = time.perf_counter()
-    rk6 = floquet.solve(system, speeds, harmonics=0, tableau=floquet.BUTCHER6)
+    rk6 = exponents.solve(system, speeds, harmonics=0, tableau=exponents.BUTCHER6)
     t_rk6 = time.perf_counter() - t
     pick = np.unique(np.linspace(0, len(speeds) - 1, args.baseline_speeds).round().astype(int))
     t = time.perf_counter()
     base = [baseline_monodromy(system, w) for w in speeds[pick]]
     base_time = (time.perf_counter() - t) * len(speeds) / len(pick)
     check = np.unique(np.linspace(0, len(speeds) - 1, 8).round().astype(int))
-    mono = floquet.monodromy(system, speeds[check])
+    mono = exponents.monodromy(system, speeds[check])
     err_ours = err_base = 0.0
     for j, i in enumerate(check):
         ref = baseline_monodromy(system, speeds[i], rtol=1e-13)
@@ -99,7 +100,7 @@ def main():
         f"steps per revolution: min {sol.steps.min()}, median {int(np.median(sol.steps))}, "
         f"max {sol.steps.max()}"
     )
-    print(f"groundres floquet.solve:          {ours:8.3f} s  (best of 3; target < 0.5 s)")
+    print(f"groundres exponents.solve:          {ours:8.3f} s  (best of 3; target < 0.5 s)")
     print(
         f"  same with Butcher's 6th order:  {t_rk6:8.3f} s, median {int(np.median(rk6.steps))} steps/rev "
         "(why the 8th-order method is used)"

@@ -37,7 +37,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_floquet import baseline_monodromy  # noqa: E402
 from groundres import load_case  # noqa: E402
-from groundres.system import System  # noqa: E402
+from groundres.model.system import System  # noqa: E402
 
 CASE = "hammond-1974-one-damper"
 

@@ -24,8 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from groundres import load_case, parse_case, propagate
-from groundres.studies import run, study
+from groundres import load_case, parse_case
+from groundres.solve.floquet import compiled
+from groundres.studies import run
+from groundres.studies.study import study
 
 
 def the_case():
@@ -43,7 +45,7 @@ def main():
     parser.add_argument("--size", type=int, default=40)
     parser.add_argument("--baseline-points", type=int, default=4)
     args = parser.parse_args()
-    propagate.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
+    compiled.kernel(wait=True)  # (compiled now if this machine has not yet: not timed)
     case, text = the_case()
     points = args.size**2
     print(

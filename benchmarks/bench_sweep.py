@@ -24,9 +24,9 @@ from groundres import (
     Rotor,
     Sweep,
     analyze,
-    modal,
 )
-from groundres.system import System
+from groundres.model.system import System
+from groundres.solve import modal
 
 sys.path.insert(0, str(Path(__file__).parent))
 

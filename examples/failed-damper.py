@@ -24,7 +24,7 @@ import numpy as np
 
 import groundres
 from groundres.plotting.timehistory import time_history
-from groundres.simulate import initial_state, simulate
+from groundres.solve.simulate import initial_state, simulate
 
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
 SPEED = 27.0  # [rad/s] (258 rpm), inside the unstable range

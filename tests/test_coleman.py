@@ -7,7 +7,7 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 
 from groundres import analyze  # noqa: E402
-from groundres.config import load_case  # noqa: E402
+from groundres.model.schema import load_case  # noqa: E402
 from groundres.plotting.coleman import coleman_diagram  # noqa: E402
 
 

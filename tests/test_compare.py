@@ -14,8 +14,8 @@ from click.testing import CliRunner  # noqa: E402
 
 import groundres  # noqa: E402
 from groundres.cli import main  # noqa: E402
-from groundres.comparison import pair_ranges  # noqa: E402
-from groundres.config import shipped_cases  # noqa: E402
+from groundres.model.schema import shipped_cases  # noqa: E402
+from groundres.results.comparison import pair_ranges  # noqa: E402
 
 #: The seed paper's Figure 3 case (two unstable ranges) on 40 speeds instead of 400: fast.
 UNDAMPED = shipped_cases()["hammond-undamped"].replace("points = 400", "points = 40")
@@ -252,7 +252,7 @@ def test_fewer_than_two_entries_or_a_bad_case_is_refused(tmp_path, args, words):
 
 def test_python_api_is_exported_and_refuses_one_entry():
     assert callable(groundres.compare) and "compare" in dir(groundres)
-    importlib.import_module("groundres.comparison")  # (the module does not shadow the function)
+    importlib.import_module("groundres.results.comparison")  # (the module does not shadow the function)
 
     assert callable(groundres.compare)
     with pytest.raises(ValueError, match="two or"):

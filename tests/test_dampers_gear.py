@@ -18,11 +18,11 @@ from click.testing import CliRunner
 
 from conftest import HAMMOND_TOML
 from groundres import analyze, load_case, parse_case
-from groundres.body import Body, Leg
 from groundres.cli import main
-from groundres.dampers import Damper
-from groundres.params import Rotor
-from groundres.system import System
+from groundres.model.body import Body, Leg
+from groundres.model.dampers import Damper
+from groundres.model.params import Rotor
+from groundres.model.system import System
 
 E = 0.3048  # [m] Hammond's hinge offset
 
@@ -389,7 +389,7 @@ def test_rods_without_damping_leave_the_search_on_the_blade_dampers():
 
 def test_single_failures_of_different_kinds_are_not_shared():
     """Blade dampers and rods on one rotor: a blade's failure and a rod's are different rotors."""
-    from groundres.studies import study
+    from groundres.studies.study import study
 
     text = load_case("hammond-interblade").text.replace("lag_damping = 0.0 ", "lag_damping = 3000.0 ")
     text = text.replace("points = 400", "points = 12").replace("start = 30.0", "start = 200.0")
@@ -402,7 +402,7 @@ def test_single_failures_of_different_kinds_are_not_shared():
 
 
 def test_rotating_phasors_keep_heave_and_yaw_and_heave_is_in_metres():
-    from groundres.dataset import coordinate_unit
+    from groundres.results.dataset import coordinate_unit
 
     text = HAMMOND_TOML.replace('dofs = ["x", "y"]', 'dofs = ["x", "y", "z", "yaw"]').replace(
         "[body]", "[body]\nmass_z = 5000.0\nstiffness_z = 1e6\ninertia_yaw = 9000.0\nstiffness_yaw = 2e6"

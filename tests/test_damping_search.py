@@ -15,9 +15,11 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from groundres import analyze, floquet, limits
-from groundres.config import parse_case
-from groundres.stability import growth_threshold
+from groundres import analyze
+from groundres.assess import resolution
+from groundres.assess.stability import growth_threshold
+from groundres.model.schema import parse_case
+from groundres.solve.floquet import exponents
 
 
 def case(name, **body_scale):
@@ -31,12 +33,12 @@ def case(name, **body_scale):
 def brute_force_excess(c, lag_damping):
     """Largest real part minus the threshold over the sweep by plain Floquet exponents of
     the system rebuilt with that lag damping: 400 uniform speeds, then 200 around the worst."""
-    system, unit = limits.system_in_mass_unit(c.rotor, c.body)
+    system, unit = resolution.system_in_mass_unit(c.rotor, c.body)
     system = system.with_lag_damping(lag_damping / unit)
     lo, hi = c.sweep.speeds[0], c.sweep.speeds[-1]
 
     def excess(w):
-        return floquet.solve(system, w, harmonics=0, lift=False).exponent.real.max(-1) - growth_threshold(w)
+        return exponents.solve(system, w, harmonics=0, lift=False).exponent.real.max(-1) - growth_threshold(w)
 
     w = np.linspace(max(lo, 1e-3), hi, 400)
     top = w[np.argmax(excess(w))]
@@ -80,7 +82,7 @@ def test_a_rough_scan_bounds_the_growth_at_full_tolerance(name):
     from groundres.analysis import _Floquet
 
     c = case(name)
-    system, unit = limits.system_in_mass_unit(c.rotor, c.body)
+    system, unit = resolution.system_in_mass_unit(c.rotor, c.body)
     solver = _Floquet(system, unit)
     w = np.linspace(c.sweep.speeds[1], c.sweep.speeds[-1], 24)
     for neutral in (True, False):
@@ -88,13 +90,13 @@ def test_a_rough_scan_bounds_the_growth_at_full_tolerance(name):
         exact = solver.growth(w, neutral)
         assert np.all((lower <= exact) & (exact <= upper))
         assert np.all(np.abs(value - exact) <= np.minimum(upper - value, value - lower))
-    rough = floquet.solve(system, w, harmonics=0, lift=False, tolerance=floquet.SCAN_TOLERANCE)
-    full = floquet.solve(system, w, harmonics=0, lift=False)
+    rough = exponents.solve(system, w, harmonics=0, lift=False, tolerance=exponents.SCAN_TOLERANCE)
+    full = exponents.solve(system, w, harmonics=0, lift=False)
     assert np.all(rough.steps <= full.steps)  # (the fewest steps allowed serve most speeds of both)
 
 
 def test_zoom_with_a_rough_look_returns_values_of_the_exact_function():
-    from groundres.scan import zoom_many
+    from groundres.assess.scan import zoom_many
 
     def exact(w):
         return -np.minimum((w - 3.1) ** 2, 0.5 * (w - 7.3) ** 2)
@@ -111,7 +113,7 @@ def test_zoom_with_a_rough_look_returns_values_of_the_exact_function():
 def test_peak_watch_with_a_rough_look_reaches_the_same_verdicts():
     """Two peaks over speed, one rising with the parameter faster than the other; a
     rough look with a bounded error must give every full scan's verdict unchanged."""
-    from groundres.scan import PeakWatch
+    from groundres.assess.scan import PeakWatch
 
     def fun(p, w):
         w = np.asarray(w, float)

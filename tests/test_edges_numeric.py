@@ -20,11 +20,14 @@ import mpmath
 import numpy as np
 import pytest
 
-from groundres import ModelRangeError, analyze, identify, limits, modal
-from groundres.config import parse_case, shipped_cases
-from groundres.stability import growth_threshold
-from groundres.system import System
-from groundres.transition import SpeedRangeError
+from groundres import ModelRangeError, analyze
+from groundres.assess import resolution
+from groundres.assess.stability import growth_threshold
+from groundres.model.schema import parse_case, shipped_cases
+from groundres.model.system import System
+from groundres.modes import identify
+from groundres.solve import modal
+from groundres.solve.floquet.transition import SpeedRangeError
 
 MASS_LIKE_ROTOR = ("blade_mass", "blade_static_moment", "blade_inertia", "lag_stiffness", "lag_damping")
 MASS_LIKE_BODY = ("mass_x", "mass_y", "stiffness_x", "stiffness_y", "damping_x", "damping_y")
@@ -386,12 +389,12 @@ def test_range_starting_below_the_first_turning_speed_is_followed_down():
 def test_range_open_at_the_lowest_affordable_floquet_speed_says_so(monkeypatch):
     """With a work budget that stops the descent near 0.5 rad/s the range still
     grows there: its start is reported as a bound, in summary.json too."""
-    from groundres.summary import summary
+    from groundres.results.summary import summary
 
     case = parse_case(tomllib.loads(LOW_START))
     system = System(case.rotor, case.body)
-    work, _ = limits.floquet_work_per_speed(system, np.array([0.5]), lift=False)
-    monkeypatch.setattr(limits, "REST_BUDGET", float(work[0]) * 1.01)
+    work, _ = resolution.floquet_work_per_speed(system, np.array([0.5]), lift=False)
+    monkeypatch.setattr(resolution, "REST_BUDGET", float(work[0]) * 1.01)
     flq = analyze(case, method="floquet")
     first = flq.stability.unstable_ranges[0][0]
     assert flq.stability.open_below == first and 0.4 <= first <= 1.0
@@ -450,7 +453,7 @@ def test_floquet_refusal_speaks_the_case_unit_and_fits_its_advice():
     message = str(err.value)
     assert "0.03 Hz (0.1885 rad/s)" in message and "method = 'auto'" not in message
     with pytest.raises(ModelRangeError, match="time-invariant form: method = 'auto'"):
-        limits.check_floquet_work(3e6, np.ones(2), np.ones(2), time_invariant=True)
+        resolution.check_floquet_work(3e6, np.ones(2), np.ones(2), time_invariant=True)
 
 
 def test_smallest_damping_ratio_does_not_depend_on_the_sweep_spacing():
@@ -472,7 +475,7 @@ def test_no_exact_minimum_without_body_damping_says_why():
     articulated rotor: the Deutsch criterion asks for infinite lag damping, and
     no damper makes the sweep stable; that answer does not depend on the
     sweep's spacing, and the reason names the undamped body mode."""
-    from groundres.summary import summary
+    from groundres.results.summary import summary
 
     changes = dict(sweep__start=0.0, body__stiffness_x=0.01, body__stiffness_y=0.01, rotor__lag_stiffness=0.0)
     for points in (2, 400):
@@ -485,7 +488,7 @@ def test_no_exact_minimum_without_body_damping_says_why():
 def test_the_damping_search_can_be_left_out():
     """phasors ran the search and threw its answer away: without it the modes
     and ranges are the same and the result says the search was not run."""
-    from groundres.summary import summary
+    from groundres.results.summary import summary
 
     case = shipped("hammond-1974", sweep__points=40)
     full = analyze(case)

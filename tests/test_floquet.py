@@ -9,8 +9,10 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
 from conftest import PITCH_ROLL, make_case
-from groundres import analyze, floquet, modal, simulate
-from groundres.system import System
+from groundres import analyze
+from groundres.model.system import System
+from groundres.solve import modal, simulate
+from groundres.solve.floquet import exponents
 
 
 def one_damper(case, blade=1):
@@ -59,7 +61,7 @@ def matched(a, b):
 @pytest.mark.parametrize("compiled", [True, False], ids=["compiled kernel", "numpy"])
 def test_multipliers_to_1e_9_against_a_tight_reference(name, speed, compiled):
     system = System(CASES[name]().rotor, CASES[name]().body)
-    ours = np.linalg.eigvals(floquet.monodromy(system, np.array([speed]), compiled=compiled)[0])
+    ours = np.linalg.eigvals(exponents.monodromy(system, np.array([speed]), compiled=compiled)[0])
     ref = np.linalg.eigvals(reference_monodromy(system, speed))
     assert matched(ours, ref).max() <= 1e-9 * max(1.0, np.abs(ref).max())
 
@@ -67,7 +69,7 @@ def test_multipliers_to_1e_9_against_a_tight_reference(name, speed, compiled):
 @pytest.mark.parametrize("n_blades", [2, 3, 4, 5])
 def test_identical_blades_repeat_every_1_over_n_revolution(n_blades):
     system = System(make_case(n_blades=n_blades).rotor, make_case().body)
-    sym = floquet.symmetry(system)
+    sym = exponents.symmetry(system)
     assert sym.shift == 1 and np.isclose(sym.angle, 2 * np.pi / n_blades)
     speed, psi = np.array([17.0]), 0.37
     now = system.matrices(speed, np.array([psi]))[:, 0]
@@ -78,7 +80,7 @@ def test_identical_blades_repeat_every_1_over_n_revolution(n_blades):
 
 def test_a_failed_damper_leaves_no_shortcut():
     system = System(one_damper(make_case()).rotor, make_case().body)
-    assert floquet.symmetry(system).shift == 4
+    assert exponents.symmetry(system).shift == 4
 
 
 @pytest.mark.parametrize(
@@ -113,11 +115,11 @@ def test_floquet_equals_rotating_axes_eigen_for_an_isotropic_hub(n_blades):
     system = System(case.rotor, case.body)
     speeds = eigen.rotor_speed
     roots = np.linalg.eigvals(modal.state_matrix(*system.rotating_axes(speeds)))
-    exponents = floquet.solve(system, speeds, harmonics=0).exponent
+    floquet_exponents = exponents.solve(system, speeds, harmonics=0).exponent
     for i, w in enumerate(speeds):
         # the roots: real parts to 1e-8, imaginary parts equal modulo Omega
-        d_re = np.abs(roots[i].real[:, None] - exponents[i].real[None, :])
-        k = (roots[i].imag[:, None] - exponents[i].imag[None, :]) / w
+        d_re = np.abs(roots[i].real[:, None] - floquet_exponents[i].real[None, :])
+        k = (roots[i].imag[:, None] - floquet_exponents[i].imag[None, :]) / w
         r, c = linear_sum_assignment(d_re + w * np.abs(k - np.round(k)))
         assert d_re[r, c].max() < 1e-8 and np.abs(k - np.round(k))[r, c].max() < 1e-8
         # frequencies identified from the harmonics agree in both frames for every
@@ -138,11 +140,11 @@ def test_two_opposite_working_dampers_give_minus_c_over_2i():
     b = case.rotor.blades[1]
     sigma = b.lag_damping / (2 * b.blade_inertia)
     for speed in (10.0, 25.0, 40.0):
-        exponents = floquet.solve(system, np.array([speed]), harmonics=0).exponent[0]
+        floquet_exponents = exponents.solve(system, np.array([speed]), harmonics=0).exponent[0]
         nu_w = b.lag_frequency(speed) * speed
         expected = -sigma + 1j * np.sqrt(nu_w**2 - sigma**2)
-        k = (exponents.imag - expected.imag) / speed
-        distance = np.abs(exponents.real - expected.real) + speed * np.abs(k - np.round(k))
+        k = (floquet_exponents.imag - expected.imag) / speed
+        distance = np.abs(floquet_exponents.real - expected.real) + speed * np.abs(k - np.round(k))
         assert distance.min() < 1e-8
 
 
@@ -151,7 +153,7 @@ def test_simulated_growth_matches_the_largest_exponent(speed):
     """A time simulation (DOP853) of the periodic equations grows at max Re(lambda), to 1 %."""
     case = one_damper(make_case())
     system = System(case.rotor, case.body)
-    predicted = floquet.solve(system, np.array([speed]), harmonics=0).exponent.real.max()
+    predicted = exponents.solve(system, np.array([speed]), harmonics=0).exponent.real.max()
     assert predicted > 0.05  # inside the unstable range: one mode dominates
     start = simulate.initial_state(system, {"x": 0.01, "y": 0.01, "lag1": 0.01})
     run = simulate.simulate(system, speed, 40.0, start, rtol=1e-9)

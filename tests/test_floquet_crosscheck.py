@@ -14,8 +14,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import linear_sum_assignment
 
 from conftest import PITCH_ROLL, make_case
-from groundres import modal
-from groundres.system import System
+from groundres.model.system import System
+from groundres.solve import modal
 
 
 def floquet_exponents(system, speed):

@@ -5,9 +5,11 @@ import numpy as np
 import pytest
 
 from conftest import make_case
-from groundres import analyze, floquet, modal
-from groundres.system import System
-from groundres.transition import SpeedRangeError
+from groundres import analyze
+from groundres.model.system import System
+from groundres.solve import modal
+from groundres.solve.floquet import exponents
+from groundres.solve.floquet.transition import SpeedRangeError
 
 ISOTROPIC = dict(mass_y=8026.6, damping_y=51078.7)
 
@@ -35,7 +37,7 @@ def test_lifted_real_parts_equal_the_time_invariant_ones(case, frame, speed):
     part within e^14), including the overdamped roots with negative
     multipliers that have two K-th roots on the edge of the sector."""
     system = System(case.rotor, case.body)
-    fs = floquet.solve(system, np.array([speed]), harmonics=0)
+    fs = exponents.solve(system, np.array([speed]), harmonics=0)
     assert fs.lifted.all()
     ours = np.sort(fs.exponent[0].real)
     theirs = np.sort(reference(system, np.array([speed]), frame)[0].real)
@@ -48,7 +50,7 @@ def test_a_speed_too_slow_to_resolve_is_refused_with_the_reason():
     wrong roots."""
     case = make_case(n_blades=3, body=dict(damping_x=5e5, damping_y=5e5))
     with pytest.raises(SpeedRangeError, match="e-folds"):
-        floquet.solve(System(case.rotor, case.body), np.array([0.1]), harmonics=0)
+        exponents.solve(System(case.rotor, case.body), np.array([0.1]), harmonics=0)
 
 
 @pytest.mark.parametrize("points", [13, 40])

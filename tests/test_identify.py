@@ -1,4 +1,4 @@
-"""Names and frequencies of roots (groundres.identify): the same for every
+"""Names and frequencies of roots (groundres.modes.identify): the same for every
 method, continuous along the sweep, anchored to the time-invariant system as
 the dissimilarity vanishes, and true to each mode's content."""
 
@@ -10,8 +10,8 @@ from scipy.optimize import linear_sum_assignment
 
 from conftest import PITCH_ROLL, make_case
 from groundres import analyze, load_case
-from groundres.content import label_groups
-from groundres.mbc import Coordinate
+from groundres.model.mbc import Coordinate
+from groundres.modes.participation import label_groups
 
 ISOTROPIC = dict(mass_y=8026.6, damping_y=51078.7)
 SWEEP = (3.0, 42.0, 50)

@@ -16,9 +16,9 @@ from click.testing import CliRunner
 from conftest import HAMMOND_TOML
 from groundres import Blade, Body, Case, Rotor, Sweep
 from groundres.cli import main
-from groundres.config import SCHEMA, CaseError, load_case
-from groundres.params import MAX_BLADES, MAX_POINTS, ParameterError, shown
-from groundres.system import System
+from groundres.model.params import MAX_BLADES, MAX_POINTS, ParameterError, shown
+from groundres.model.schema import SCHEMA, CaseError, load_case
+from groundres.model.system import System
 
 #: The Hammond case with blade 2's damper given on its own and a reference speed.
 GOOD = (
@@ -256,7 +256,7 @@ def test_case_errors_name_the_table(tmp_path):
 @pytest.fixture(scope="module")
 def warm():
     """Derive or load the generated equations once, so that the timings below are of the refusals."""
-    from groundres.simulate import fastest_rate
+    from groundres.solve.simulate import fastest_rate
 
     case = load_case("hammond-1974-one-damper")
     fastest_rate(System(case.rotor, case.body), 26.7)
@@ -329,7 +329,7 @@ def test_simulate_estimate_is_of_the_right_size(warm):
     255 rpm and 2290 at 50 rpm; the estimate (25 steps per period of the
     fastest rate) gives 6375 and 2249.
     """
-    from groundres import simulate
+    from groundres.solve import simulate
 
     case = load_case("hammond-1974-one-damper")
     system = System(case.rotor, case.body)
@@ -413,8 +413,8 @@ def test_a_simulation_that_cannot_take_large_steps_is_stopped():
     """soft-inplane-pitch-roll at 1e50 rpm ran for hours inside the integrator:
     the steps are counted and a run that needs far more than estimated stops
     with a model-range error (exit 2 on the command line)."""
-    from groundres import simulate
-    from groundres.limits import ModelRangeError
+    from groundres.assess.resolution import ModelRangeError
+    from groundres.solve import simulate
 
     case = load_case("hammond-1974")
     system = System(case.rotor, case.body)
@@ -454,7 +454,7 @@ def test_option_mistakes_are_one_line(args, words):
 
 def test_the_largest_number_is_written_as_a_float(tmp_path):
     """|value| <= 1.798e+308 was the rounded largest float, itself no float."""
-    from groundres.config import LARGEST_NUMBER, LARGEST_NUMBER_TEXT
+    from groundres.model.schema import LARGEST_NUMBER, LARGEST_NUMBER_TEXT
 
     assert float(LARGEST_NUMBER_TEXT) <= LARGEST_NUMBER
     result, elapsed = run("run", write(tmp_path, edit("blade_mass = 94.9", "blade_mass = nan")))

@@ -5,8 +5,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import make_case
-from groundres import mbc
-from groundres.system import System
+from groundres.model import mbc
+from groundres.model.system import System
 
 
 @given(n=st.integers(2, 12), phase=st.floats(-10, 10))

@@ -15,9 +15,10 @@ import xarray as xr
 from click.testing import CliRunner
 
 import groundres
-from groundres import analyze, floquet, load_case
+from groundres import analyze, load_case
 from groundres.cli import main
-from groundres.config import shipped_cases
+from groundres.model.schema import shipped_cases
+from groundres.solve.floquet import exponents
 
 # A quick case (eigen-analysis, 20 speeds); CRLF line ends, a comment and a
 # non-ASCII character check that case.toml keeps the text byte for byte.
@@ -105,7 +106,7 @@ def test_floquet_provenance_records_the_integration(tmp_path):
     result = run("run", write_floquet(tmp_path), "--out", tmp_path / "out")
     assert result.exit_code == 0, result.output
     accuracy = provenance(tmp_path / "out")["accuracy"]
-    assert accuracy["transition_tolerance"] == floquet.TOLERANCE
+    assert accuracy["transition_tolerance"] == exponents.TOLERANCE
     steps = accuracy["steps_per_interval"]
     assert 32 <= steps["min"] <= steps["max"]
 
@@ -311,8 +312,8 @@ def test_analysis_reports_progress_by_stage(tmp_path):
 
 
 def test_simulation_reports_progress_in_simulated_seconds():
-    from groundres import simulate
-    from groundres.system import System
+    from groundres.model.system import System
+    from groundres.solve import simulate
 
     case = load_case("hammond-1974")
     system = System(case.rotor, case.body)
@@ -343,7 +344,7 @@ def test_an_output_folder_that_cannot_be_moved_aside_is_a_clear_error(tmp_path, 
     import errno
     import os
 
-    from groundres import folders
+    from groundres.results import folders
 
     target = tmp_path / "out"
     target.mkdir()

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_info
 
-from groundres import parallel
+from groundres.solve import parallel
 
 
 def _blas_threads():

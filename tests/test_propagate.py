@@ -10,8 +10,9 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from groundres import floquet, load_case, nodes, propagate, transition
-from groundres.system import System
+from groundres import load_case
+from groundres.model.system import System
+from groundres.solve.floquet import coefficients, compiled, exponents, transition
 
 SHIPPED = sorted(
     p.name[:-5] for p in (resources.files("groundres") / "cases").iterdir() if p.name.endswith(".toml")
@@ -36,7 +37,7 @@ def test_compiled_and_numpy_kernels_agree_on_every_shipped_case(name):
     step: a slow rotor under stiff gear legs) are left out: there the explicit
     method amplifies round-off by orders of magnitude, in both paths."""
     system, speeds = shipped_system(name)
-    angle = floquet.symmetry(system).angle
+    angle = exponents.symmetry(system).angle
     moving = speeds[speeds > 0]
     moving = moving[transition.rates_per_radian(system, moving) * angle / 48 <= 2.0]
     w = moving[np.linspace(0, len(moving) - 1, 5).astype(int)]
@@ -51,7 +52,7 @@ def test_embedded_estimate_keeps_the_transition_matrix_within_the_tolerance(name
     """The step count the embedded estimate settles on gives the transition
     matrix to TOLERANCE: checked against the same method on four times the steps."""
     system, speeds = shipped_system(name)
-    angle = floquet.symmetry(system).angle
+    angle = exponents.symmetry(system).angle
     w = speeds[speeds > 0][np.linspace(0, (speeds > 0).sum() - 1, 7).astype(int)]
     phi, steps = transition.integrate(system, w, angle, compiled=True)
     for count in np.unique(steps):
@@ -66,7 +67,7 @@ def test_embedded_estimate_keeps_the_transition_matrix_within_the_tolerance(name
 def test_node_matrices_by_the_schur_complement_equal_a_dense_solve(name):
     system, _ = shipped_system(name)
     psi = np.linspace(0, 2 * np.pi, 37)
-    fit = nodes._Harmonics(system)
+    fit = coefficients._Harmonics(system)
     assert fit.schur
     fast = fit.solve(psi)
     fit.schur = False
@@ -92,10 +93,10 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
         assert relative(each[i : i + 1], rebuilt).max() < 1e-12
     assert relative(both[:1], each[:1]).max() < 1e-12  # (c = 0: the split system itself)
     assert system.with_lag_damping(c[1]).rotor.blades[0].lag_damping == 0.0  # (blade 1 failed)
-    sym = floquet.symmetry(system)  # (the full period: c = 0 alone would repeat every quarter turn)
-    ours = floquet.solve(split, w, harmonics=0, damping=c, sym=sym)
+    sym = exponents.symmetry(system)  # (the full period: c = 0 alone would repeat every quarter turn)
+    ours = exponents.solve(split, w, harmonics=0, damping=c, sym=sym)
     for i in range(3):
-        alone = floquet.solve(system.with_lag_damping(c[i]), w[i : i + 1], harmonics=0, sym=sym)
+        alone = exponents.solve(system.with_lag_damping(c[i]), w[i : i + 1], harmonics=0, sym=sym)
         np.testing.assert_allclose(
             np.sort_complex(ours.multiplier[i]), np.sort_complex(alone.multiplier[0]), atol=1e-9
         )
@@ -109,21 +110,21 @@ def test_compiled_code_is_cached_only_where_no_one_else_can_write(tmp_path, monk
     os.chmod(tmp_path, 0o755)
     mask = os.umask(0o002)  # (a usual umask for accounts with their own group)
     try:
-        assert propagate.cache_folder() == str(tmp_path / "groundres" / "numba")
+        assert compiled.cache_folder() == str(tmp_path / "groundres" / "numba")
     finally:
         os.umask(mask)
     for folder in (tmp_path / "groundres", tmp_path / "groundres" / "numba"):
         assert (os.stat(folder).st_mode & 0o777) == 0o700
     os.chmod(tmp_path / "groundres", 0o770)
-    assert propagate.cache_folder() is None
+    assert compiled.cache_folder() is None
     os.chmod(tmp_path / "groundres", 0o700)
     os.chmod(tmp_path, 0o757)
-    assert propagate.cache_folder() is None
+    assert compiled.cache_folder() is None
     os.chmod(tmp_path, 0o775)
     own_group = os.stat(tmp_path).st_gid == os.getgid()
-    assert (propagate.cache_folder() is not None) == own_group
+    assert (compiled.cache_folder() is not None) == own_group
     monkeypatch.setenv("XDG_CACHE_HOME", "relative/path")
-    assert propagate.cache_folder() is None
+    assert compiled.cache_folder() is None
 
 
 def test_the_first_use_compiles_in_the_background_and_numpy_serves_meanwhile(tmp_path, monkeypatch):
@@ -132,11 +133,11 @@ def test_the_first_use_compiles_in_the_background_and_numpy_serves_meanwhile(tmp
     filled the cache, the kernel is ready and gives the NumPy path's matrices."""
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     for name in ("_KERNEL", "_STARTED", "_BACKGROUND"):
-        monkeypatch.setattr(propagate, name, None if name != "_STARTED" else False)
-    assert propagate.kernel() is None
+        monkeypatch.setattr(compiled, name, None if name != "_STARTED" else False)
+    assert compiled.kernel() is None
     assert not transition.use_kernel(transition.DOP8)
-    assert propagate._BACKGROUND.wait(timeout=300) == 0
-    assert propagate.kernel() is not None and transition.use_kernel(transition.DOP8)
+    assert compiled._BACKGROUND.wait(timeout=300) == 0
+    assert compiled.kernel() is not None and transition.use_kernel(transition.DOP8)
     system, speeds = shipped_system("two-bladed")
     w = speeds[[10, 200]]
     fast = transition.transition(system, w, np.pi, 40)

@@ -7,7 +7,7 @@ freedom, isotropic or not; flap or not; every speed unit; a sweep from rest
 or not; every method the case allows. Each runs through ``groundres run``
 and must exit 0, write summary.json, modes.csv, modes.nc and coleman.png,
 and report a stability verdict consistent with its own numbers and the
-growth threshold (:func:`groundres.stability.growth_threshold`).
+growth threshold (:func:`groundres.assess.stability.growth_threshold`).
 
 What is generated is narrower than what is allowed, to keep the test near a
 few minutes on one core:
@@ -35,12 +35,12 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from groundres.assess.stability import growth_threshold
 from groundres.cli import main
-from groundres.params import SPEED_UNITS
-from groundres.stability import growth_threshold
+from groundres.model.params import SPEED_UNITS
 
 DOFS = ("x", "y", "pitch", "roll")
-#: How a Floquet sweep beyond the work limit is refused (groundres.limits.check_floquet_work).
+#: How a Floquet sweep beyond the work limit is refused (groundres.assess.resolution.check_floquet_work).
 REFUSAL = "Floquet analysis of this sweep needs an estimated"
 #: The generated cases refused so far.
 REFUSED = []

@@ -19,11 +19,11 @@ from rich.console import Console
 
 from conftest import HAMMOND_BLADE, HAMMOND_HUB
 from groundres import Blade, Body, Rotor, analyze, load_case
+from groundres.assess.deutsch import deutsch, installed_lag_damping
+from groundres.assess.stability import growth_threshold
 from groundres.cli import main
 from groundres.cli import printout as report
-from groundres.deutsch import deutsch, installed_lag_damping
-from groundres.io import MODES_CSV_HEADER
-from groundres.stability import growth_threshold
+from groundres.results.files import MODES_CSV_HEADER
 
 WIDTH = 80
 

@@ -14,9 +14,10 @@ from click.testing import CliRunner
 from conftest import HAMMOND_TOML
 from groundres import analyze
 from groundres.cli import main
-from groundres.config import parse_case
-from groundres.studies import StudyError, run, store, study
-from groundres.studies.grid import make_grid, numeric_keys, parse_values
+from groundres.model.schema import parse_case
+from groundres.studies import run, store
+from groundres.studies.grid import StudyError, make_grid, numeric_keys, parse_values
+from groundres.studies.study import study
 
 # The Hammond rotor on its hub, a short sweep (Floquet where a damper fails).
 SMALL = HAMMOND_TOML.replace("points = 60", "points = 24").replace("start = 0.5", "start = 10.0")
@@ -205,7 +206,7 @@ def test_the_command_writes_the_store_the_netcdf_and_the_map(tmp_path):
 
 
 def test_the_boundary_search_agrees_with_the_grid_to_its_spacing():
-    from groundres.studies import boundary
+    from groundres.studies.study import boundary
 
     vary = {"rotor.lag_damping": "500:8000:16", "body.damping_x": [2.0e4, 8.0e4]}
     grid = study(small_case(), vary)
@@ -324,7 +325,7 @@ def test_a_fault_that_is_not_the_cases_is_not_recorded_as_a_failed_point(tmp_pat
 
 def test_the_boundary_search_shares_a_failure_only_where_the_blades_are_alike_all_along():
     """Blade 2's own damper held at the rotor's value: alike at one point of the line only."""
-    from groundres.studies import boundary
+    from groundres.studies.study import boundary
 
     vary = {"rotor.blade[2].lag_damping": [4067.5], "rotor.lag_damping": "500:6000:4"}
     edge = boundary(small_case(), vary, "rotor.lag_damping", failures="single")

@@ -17,14 +17,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import damping_search, floquet, identify, limits, modal, scan, stability, transition
-from .body import ROTATING_PAIRS
-from .deutsch import deutsch_in_si
-from .identify import Modes
-from .limits import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
-from .params import SPEED_UNITS, Case
-from .results import SweepResult
-from .system import System
+from .assess import damping_search, resolution, scan, stability
+from .assess.deutsch import deutsch_in_si
+from .assess.resolution import ModelRangeError  # noqa: F401  (re-exported: the command line maps it to exit 2)
+from .model.body import ROTATING_PAIRS
+from .model.params import SPEED_UNITS, Case
+from .model.system import System
+from .modes import identify
+from .modes.identify import Modes
+from .results.sweep import SweepResult
+from .solve import modal
+from .solve.floquet import exponents, transition
 
 METHOD_NAMES = {"multiblade": "multiblade-eigen", "rotating": "rotating-eigen", "floquet": "floquet"}
 _ISOTROPIC_PAIRS = ROTATING_PAIRS  # (the pairs that turn with the rotor in rotating axes)
@@ -80,18 +83,18 @@ class _Solver:
 
     def __init__(self, system: System, unit: float = 1.0):
         self.system = system
-        self.unit = unit  # the mass unit the system is computed in [kg] (limits.mass_unit)
+        self.unit = unit  # the mass unit the system is computed in [kg] (resolution.mass_unit)
         self.nr_coords = system.multiblade_coordinates()
         self.iso = [p for p in _ISOTROPIC_PAIRS if system.body.pair_isotropic(*p)]
 
     def with_lag_damping(self, scale_to: float, in_unit: bool = False):
         """The same case with the working dampers a search sizes set to ``scale_to`` (blade
-        lag dampers [N m s/rad], or damper rods [N s/m]: :attr:`groundres.system.System.searched`)
-        (in the equations' mass unit if ``in_unit``, :func:`groundres.limits.mass_unit`).
+        lag dampers [N m s/rad], or damper rods [N s/m]: :attr:`groundres.model.system.System.searched`)
+        (in the equations' mass unit if ``in_unit``, :func:`groundres.assess.resolution.mass_unit`).
 
         Blades without a lag damper keep none (a failed damper stays failed),
         unless no blade has one, in which case all get it
-        (:meth:`groundres.system.System.with_lag_damping`).
+        (:meth:`groundres.model.system.System.with_lag_damping`).
         """
         value = scale_to if in_unit else scale_to / self.unit
         return type(self)(self.system.with_lag_damping(value), self.unit)
@@ -135,7 +138,7 @@ class _Solver:
     def growth(self, speeds, neutral=True):
         """Largest real part of all roots [1/s] at each speed (roots only, batched);
         without ``neutral``, of the roots that are not neutral
-        (:func:`groundres.stability.largest_real_part`)."""
+        (:func:`groundres.assess.stability.largest_real_part`)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         return stability.largest_real_part(np.concatenate(self._scan_roots(speeds), -1).real, speeds, neutral)
 
@@ -144,7 +147,7 @@ class _Solver:
     rough_growth = None
 
     def closeness(self, speeds):
-        """Nearest approach of two roots of one block (:func:`groundres.modal.closest_pair`)."""
+        """Nearest approach of two roots of one block (:func:`groundres.solve.modal.closest_pair`)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         floor = np.maximum(speeds, 1e-3)
         return np.min([modal.closest_pair(r, floor) for r in self._scan_roots(speeds)], axis=0)
@@ -162,7 +165,7 @@ class _Solver:
         return {"roots": "eigenvalues of each coupled block's state matrix (LAPACK geev, numpy.linalg.eig)"}
 
     def identify(self, sol: modal.Eigensolution, speeds) -> Modes:
-        """Labels and frequencies of a tracked solution (:func:`groundres.identify.identify`)."""
+        """Labels and frequencies of a tracked solution (:func:`groundres.modes.identify.identify`)."""
         harmonics = sol.harmonics if sol.harmonics is not None else sol.vector[:, :, None, :]
         orders = sol.orders if sol.orders is not None else np.array([0])
         return identify.identify(
@@ -266,36 +269,38 @@ class _Floquet(_Solver):
         if self.split is None:
             split = self.system.lag_damping_split()
             # (the family's symmetry: working dampers alike and nonzero, failed ones failed)
-            self.split = (split, floquet.symmetry(split.with_lag_damping(1.0)))
+            self.split = (split, exponents.symmetry(split.with_lag_damping(1.0)))
         return _Floquet(self.system.with_lag_damping(value), self.unit, self.split, value)
 
     def _solve(self, speeds, **kw):
         """Floquet analysis at ``speeds`` (a trial damping: on the shared split system)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         if self.lag_damping is None:
-            return floquet.solve(self.system, speeds, **kw)
+            return exponents.solve(self.system, speeds, **kw)
         split, sym = self.split
-        return floquet.solve(split, speeds, damping=self.lag_damping, sym=sym, **kw)
+        return exponents.solve(split, speeds, damping=self.lag_damping, sym=sym, **kw)
 
     def roots(self, speeds):
         return self._solve(speeds, harmonics=0).exponent
 
     def growth(self, speeds, neutral=True):
-        """Largest real part [1/s]: exact without the lifted problem (:func:`groundres.floquet.solve`);
+        """Largest real part [1/s]: exact without the lifted problem
+        (:func:`groundres.solve.floquet.exponents.solve`);
         without ``neutral``, of the roots that are not neutral
-        (:func:`groundres.stability.largest_real_part`).
+        (:func:`groundres.assess.stability.largest_real_part`).
         """
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
         real = self._solve(speeds, harmonics=0, lift=False).exponent.real
         return stability.largest_real_part(real, speeds, neutral)
 
     def rough_growth(self, speeds, neutral=True):
-        """:meth:`growth` at the scan's loose tolerance (:data:`groundres.floquet.SCAN_TOLERANCE`)
+        """:meth:`growth` at the scan's loose tolerance
+        (:data:`groundres.solve.floquet.exponents.SCAN_TOLERANCE`)
         and bounds of the true value given that tolerance: (value, lower, upper) [1/s].
-        For scans that only look where to evaluate :meth:`growth` (:class:`groundres.scan.PeakWatch`).
+        For scans that only look where to evaluate :meth:`growth` (:class:`groundres.assess.scan.PeakWatch`).
         """
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-        fs = self._solve(speeds, harmonics=0, lift=False, tolerance=floquet.SCAN_TOLERANCE, bounds=True)
+        fs = self._solve(speeds, harmonics=0, lift=False, tolerance=exponents.SCAN_TOLERANCE, bounds=True)
         real = fs.exponent.real
         return tuple(
             stability.largest_real_part(real, speeds, neutral, bound)
@@ -317,9 +322,9 @@ class _Floquet(_Solver):
             "roots": "Floquet exponents of transition matrices over the symmetry interval, integrated "
             "with fixed steps of the Dormand-Prince eighth-order tableau, the step count of each "
             f"speed set by {control}",
-            "transition_tolerance": floquet.TOLERANCE,
+            "transition_tolerance": exponents.TOLERANCE,
             "transition_tolerance_note": "largest error of an entry, relative to max(1, |Phi|)",
-            "harmonics": floquet.HARMONICS,
+            "harmonics": exponents.HARMONICS,
         }
         fs = self.solved
         if fs is not None and (fs.steps > 0).any():
@@ -332,8 +337,8 @@ class _Floquet(_Solver):
         return out
 
     def sweep(self, speeds, progress=None):
-        self.compiled = transition.use_kernel(floquet.DOP8)
-        fs = self.solved = floquet.solve(self.system, speeds, progress=progress, compiled=self.compiled)
+        self.compiled = transition.use_kernel(exponents.DOP8)
+        fs = self.solved = exponents.solve(self.system, speeds, progress=progress, compiled=self.compiled)
         n = self.system.size
         # branches: exponents (modulo Omega) and eigenvectors vary continuously
         # with speed (the multipliers' phases wrap many times over a slow period)
@@ -349,7 +354,7 @@ _SOLVERS = {"multiblade": _Multiblade, "rotating": _Rotating, "floquet": _Floque
 
 def root_solver(case: Case, form: str | None = None):
     """The solver of a case's roots (``.roots(speeds)``) by method form."""
-    return _SOLVERS[form or choose_method(case)](*limits.system_in_mass_unit(case.rotor, case.body))
+    return _SOLVERS[form or choose_method(case)](*resolution.system_in_mass_unit(case.rotor, case.body))
 
 
 def _smallest_damping_ratio_at(solver, modes: Modes, speeds, w: float) -> float:
@@ -403,7 +408,7 @@ def analyze(
         for an eigen-analysis); "range ends" and "lag damping" are called with
         ``(0, None)`` when they start and ``(1, 1)`` when they end.
     lag_damping_search : bool
-        Search the exact minimum lag damping (:mod:`groundres.damping_search`);
+        Search the exact minimum lag damping (:mod:`groundres.assess.damping_search`);
         without it ``exact_lag_damping`` is None with the reason ("skipped", None).
 
     Returns
@@ -416,14 +421,16 @@ def analyze(
         For "eigen" on a case with periodic coefficients in every frame.
     ModelRangeError
         For a case the model cannot resolve in double precision, or a Floquet
-        sweep whose estimated work is beyond the limit (:mod:`groundres.limits`).
+        sweep whose estimated work is beyond the limit (:mod:`groundres.assess.resolution`).
     """
     form = choose_method(case, method)
     frame = frame or case.sweep.frame
     speeds = case.sweep.speeds if speeds is None else np.unique(np.asarray(speeds, dtype=float))
-    system, unit = limits.system_in_mass_unit(case.rotor, case.body)
+    system, unit = resolution.system_in_mass_unit(case.rotor, case.body)
     unit_of_speed = (case.sweep.unit, SPEED_UNITS[case.sweep.unit])
-    limits.check_resolution(case.rotor, case.body, system, speeds, stability.growth_threshold, unit_of_speed)
+    resolution.check_resolution(
+        case.rotor, case.body, system, speeds, stability.growth_threshold, unit_of_speed
+    )
     solver = _SOLVERS[form](system, unit)
     deutsch = deutsch_in_si(system, unit)
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], solver.kind)
@@ -455,7 +462,7 @@ def analyze(
         probe,
         solver.kind,
         closeness=solver.closeness,
-        floor=limits.lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
+        floor=resolution.lowest_periodic_speed(system, speeds, probe) if solver.kind == "floquet" else 0.0,
         rough_growth=solver.rough_growth,
     )
     report("range ends", 1, 1)

@@ -11,8 +11,9 @@ import pytest
 from scipy.optimize import brentq, linear_sum_assignment
 
 from conftest import make_case
-from groundres import analyze, modal
-from groundres.system import System
+from groundres import analyze
+from groundres.model.system import System
+from groundres.solve import modal
 
 N, M_HUB, K_HUB = 4, 8026.6, 1240481.8
 BLADE = dict(blade_mass=94.9, blade_static_moment=289.1, blade_inertia=1084.7, hinge_offset=0.3048)

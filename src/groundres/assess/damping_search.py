@@ -1,12 +1,12 @@
 """The exact minimum lag damping: the smallest damper for which no root grows in the sweep.
 
-The search scans the sweep and an internal grid (:mod:`groundres.scan`),
+The search scans the sweep and an internal grid (:mod:`groundres.assess.scan`),
 dense near the tuning speeds and spread from half the lowest body frequency
 to the stop (a periodic search only near the tuning speeds and the unstable
 ranges, :func:`search_windows`), and bisects on the lag damping set on every
 working damper (:func:`minimum_lag_damping`). A periodic search solves every
 trial damping on one system without the working dampers, the damping a
-per-speed coefficient (:meth:`groundres.system.System.lag_damping_split`).
+per-speed coefficient (:meth:`groundres.model.system.System.lag_damping_split`).
 It starts from the installed damper and the sweep's verdict there, so that
 the two agree. A Floquet search is costly: its work is estimated with the
 sweep's before anything runs (:func:`check_work`).
@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import limits, scan, stability
+from . import resolution, scan, stability
 
 #: Relative accuracy of the exact minimum lag damping, by kind of analysis.
 RTOL = {"eigen": 1e-4, "floquet": 1e-3}
@@ -29,7 +29,8 @@ _SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
 
 
 def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
-    """Refuse a Floquet analysis whose estimated work is beyond the limit (:mod:`groundres.limits`).
+    """Refuse a Floquet analysis whose estimated work is beyond the limit
+    (:mod:`groundres.assess.resolution`).
 
     Sweep (with its lifted problems), the internal grid, the damping search
     over ``search`` (four full scans and its refinements, at the grid's mean
@@ -37,13 +38,13 @@ def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
     the worst values.
     """
     system = solver.system
-    work, steps = limits.floquet_work(system, speeds)
-    work += limits.floquet_work(system, probe, lift=False)[0]
+    work, steps = resolution.floquet_work(system, speeds)
+    work += resolution.floquet_work(system, probe, lift=False)[0]
     if search is not None:  # (None: no damping search)
-        scans, _ = limits.floquet_work(system, search, lift=False)
+        scans, _ = resolution.floquet_work(system, search, lift=False)
         typical = scans / max(len(search), 1)
         work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
-    limits.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
+    resolution.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
 
 
 def lowest_search_speed(deutsch):
@@ -118,7 +119,7 @@ def search_grid(speeds, probe, periodic, low=0.0, windows=()):
 
 def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     """Smallest lag damping (on every working damper the search sizes:
-    :attr:`groundres.system.System.searched`) for a stable sweep.
+    :attr:`groundres.model.system.System.searched`) for a stable sweep.
 
     The search scans the sweep and an internal grid dense near the tuning
     speeds from half the lowest body frequency up, refines the worst speeds
@@ -141,7 +142,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     low = lowest_search_speed(deutsch)
     if any(b < low for _, b in assessed.unstable_ranges):
         return None, ("below", low)
-    # (computed in the equations' mass unit, limits.mass_unit: SI values near the
+    # (computed in the equations' mass unit, resolution.mass_unit: SI values near the
     # largest float would overflow in the products below)
     unit = solver.unit
     system = solver.system
@@ -150,11 +151,11 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     # (a rod's N s/m act on the blades through its lever: scales in the searched damper's units)
     lever = max(system.damper_lever(), 1e-300)
     inertia = max(b.blade_inertia for b in blades) / unit / lever
-    # the largest lag damping the model resolves (limits.check_resolution), and a
+    # the largest lag damping the model resolves (resolution.check_resolution), and a
     # cap beyond which more damping is no design answer (periodic analyses stop
     # earlier: a strong damper makes the equations stiff for the explicit integrator)
     tau = float(stability.growth_threshold(np.array([speeds.min(), speeds.max()])).min())
-    resolved = 0.5 * inertia * tau / (limits.ROUND_OFF * limits.EPS)
+    resolved = 0.5 * inertia * tau / (resolution.ROUND_OFF * resolution.EPS)
     top = speeds.max()
     finite = [
         _in_searched(e, system, unit)
@@ -228,7 +229,7 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
         growth threshold [1/s] at those speeds with that lag damping.
     grid : ndarray
         Speeds [rad/s] scanned for the worst one: the sweep's and an internal
-        grid dense near the tuning speeds (:func:`groundres.scan.probe_speeds`),
+        grid dense near the tuning speeds (:func:`groundres.assess.scan.probe_speeds`),
         so that the answer does not depend on the sweep's spacing.
     start : float
         A first guess [N m s/rad] (> 0).
@@ -251,7 +252,7 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
     rough : callable, optional
         ``rough(lag_damping, speeds) -> (values, lower, upper)``: ``excess``
         at a looser accuracy and bounds of it, for the scans to look with
-        (:class:`groundres.scan.PeakWatch`); every verdict is ``excess``'s.
+        (:class:`groundres.assess.scan.PeakWatch`); every verdict is ``excess``'s.
 
     Returns
     -------

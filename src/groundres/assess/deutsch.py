@@ -9,12 +9,12 @@ omega_b = Omega (1 - nu), light damping needs
 * isotropic hub (both directions): C_h C_lag >= (N/2) S^2 omega_h^2 (1 - nu)/nu,
 
 with C_b the body damper and omega_b the body frequency with the rotor mass
-included. It is an approximation; :func:`groundres.damping_search.exact_minimum` finds the exact
+included. It is an approximation; :func:`groundres.assess.damping_search.exact_minimum` finds the exact
 minimum from the roots, on the same internal grid and from the sweep's own
 verdict at the installed damper, so that the two never contradict each other.
 
 C_lag is the lag damping the cyclic lag mode sees, per blade [N m s/rad]: a
-blade's own rotational damper, plus its damper rods (:mod:`groundres.dampers`).
+blade's own rotational damper, plus its damper rods (:mod:`groundres.model.dampers`).
 A rod of coefficient c whose length changes by g_a per radian of lag of its
 first blade and g_b of the blade j further on adds c (g_a^2 + g_b^2 +
 2 g_a g_b cos(2 pi n j / N)) to cyclic order n; between mirror-image points
@@ -36,7 +36,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .params import Body, Rotor
+from ..model.params import Body, Rotor
 
 
 @dataclass(frozen=True)
@@ -156,7 +156,7 @@ def _rod_cyclic(rotor: Rotor, what: str, order: int = 1) -> float:
     """The cyclic lag damping (``what`` = "damping") or stiffness ("stiffness") per blade of
     the rods, or the damping per unit coefficient of the working rods ("lever"), averaged
     over the rotor [N m s/rad, N m/rad, m^2/rad]."""
-    from .system import working
+    from ..model.system import working
 
     n = rotor.n_blades
     offsets = [b.hinge_offset for b in rotor.blades]
@@ -197,7 +197,7 @@ def average_blade(rotor: Rotor):
     """The smeared blade: every property averaged over the blades."""
     from dataclasses import fields
 
-    from .params import Blade
+    from ..model.params import Blade
 
     return Blade(
         # (each divided by N first: the sum of N values near the largest float overflows)
@@ -288,8 +288,8 @@ def _rigid_modes(rotor: Rotor, body: Body) -> list:
     the hub's motion in the rotor plane."""
     from scipy.linalg import eigh
 
-    from .body import BODY_DOFS
-    from .symbolic.codegen import generated
+    from ..model.body import BODY_DOFS
+    from ..symbolic.codegen import generated
 
     keep = [BODY_DOFS.index(d) for d in body.dofs]
     shaft = rotor.inertia_about_pivot(0.0, "yaw")
@@ -339,7 +339,7 @@ def _rigid_modes(rotor: Rotor, body: Body) -> list:
 
 def deutsch_in_si(system, unit: float) -> list[DeutschEntry]:
     """Deutsch entries of equations computed in a mass unit [kg]
-    (:func:`groundres.limits.mass_unit`), dampers given back in SI."""
+    (:func:`groundres.assess.resolution.mass_unit`), dampers given back in SI."""
     entries = deutsch(system.rotor, system.body)
     if unit == 1.0:
         return entries

@@ -15,7 +15,7 @@ underflow. Lengths and speeds are used as given.
 **Resolution.** Real parts come out of an eigen-solver (or a transition
 matrix) with an absolute error of about eps times the fastest rate of the
 system, eps = 2.2e-16. A root counts as growing above the growth threshold
-(:func:`groundres.stability.growth_threshold`), so a case is refused where
+(:func:`groundres.assess.stability.growth_threshold`), so a case is refused where
 ``ROUND_OFF * eps * fastest rate`` exceeds that threshold at some speed of
 the sweep: a lag damper of 1e14 N m s/rad on a 1000 kg m^2 blade decays at
 1e11 1/s and leaves the real parts uncertain by about 1e-5 1/s, too much to
@@ -39,10 +39,10 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .body import TRANSLATIONS
-from .modal import unit_mass_state_matrix
-from .params import Blade, Body, Rotor
-from .system import System
+from ..model.body import TRANSLATIONS
+from ..model.params import Blade, Body, Rotor
+from ..model.system import System
+from ..solve.modal import unit_mass_state_matrix
 
 EPS = float(np.finfo(float).eps)
 #: Real parts are trusted to ROUND_OFF * eps * (fastest rate of the system).
@@ -379,9 +379,9 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
 
 def floquet_work_per_speed(system, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Estimated work of a Floquet analysis at each speed and its steps per period (:func:`floquet_work`)."""
-    from .floquet import estimated_cost
-    from .nodes import GRID_CACHE_SIZE, grid_values
-    from .transition import DOP8
+    from ..solve.floquet.coefficients import GRID_CACHE_SIZE, grid_values
+    from ..solve.floquet.exponents import estimated_cost
+    from ..solve.floquet.transition import DOP8
 
     steps, rows = estimated_cost(system, speeds, lift)
     n = system.size
@@ -394,7 +394,8 @@ def floquet_work_per_speed(system, speeds, lift: bool = True) -> tuple[np.ndarra
 
 
 def floquet_work(system, speeds, repeats: float = 1.0, lift: bool = True) -> tuple[float, np.ndarray]:
-    """Estimated work of Floquet analyses at ``speeds`` (:func:`groundres.floquet.estimated_cost`).
+    """Estimated work of Floquet analyses at ``speeds``
+    (:func:`groundres.solve.floquet.exponents.estimated_cost`).
 
     Returns
     -------
@@ -446,7 +447,7 @@ REST_HALVINGS = 40
 def lowest_periodic_speed(system, speeds, probe) -> float:
     """Lowest speed [rad/s] a Floquet analysis looks at between rest and the
     first turning speed of the sweep and its grid, where a range is open there
-    (:func:`groundres.stability.find_ranges`): the slowest of first / 2^k whose
+    (:func:`groundres.assess.stability.find_ranges`): the slowest of first / 2^k whose
     analysis costs at most :data:`REST_BUDGET` (the cost grows as 1/speed)."""
     grid = np.union1d(speeds, probe)
     moving = grid[grid > 0]

@@ -42,7 +42,7 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
     For a Floquet analysis no probe lies below half the first speed that
     turns (a periodic analysis just above rest is the costliest of the sweep);
     a range open there is followed down by
-    :func:`groundres.stability.find_ranges` within a work budget.
+    :func:`groundres.assess.stability.find_ranges` within a work budget.
     """
     speeds = np.asarray(speeds, dtype=float)
     lo, hi = speeds[0], speeds[-1]

@@ -5,12 +5,12 @@ more than one millionth per radian of rotor rotation) plus ``GROWTH_FLOOR``
 (1e-9 1/s, for the rotor at rest), so that neutral modes of undamped cases
 and near-repeated eigenvalues do not turn into instabilities through
 round-off. Unstable ranges come from the largest real part on the sweep and
-on an internal grid (:mod:`groundres.scan`), with the local maxima refined
+on an internal grid (:mod:`groundres.assess.scan`), with the local maxima refined
 (ranges narrower than the grid) and, for eigen-analyses, the places where two
 roots meet (undamped coalescences); their ends come from root finding, not
 from the grid spacing. A range open at the first speed that turns is followed
 down towards rest (:func:`_start_above_rest`), a periodic analysis only as
-far as its cost allows (:func:`groundres.limits.lowest_periodic_speed`).
+far as its cost allows (:func:`groundres.assess.resolution.lowest_periodic_speed`).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import scan
-from .limits import REST_HALVINGS
+from .resolution import REST_HALVINGS
 
 GROWTH_PER_RADIAN = 1e-6
 #: [1/s] added to the threshold: at rest the neutral roots sit at round-off.
@@ -80,7 +80,7 @@ class Stability:
     open_below : float or None
         Where the first range begins at the lowest speed the analysis reaches
         above rest (a periodic analysis costs more the slower the rotor: see
-        :func:`groundres.limits.lowest_periodic_speed`), that speed [rad/s]:
+        :func:`groundres.assess.resolution.lowest_periodic_speed`), that speed [rad/s]:
         the range may begin lower. None otherwise.
     """
 
@@ -125,19 +125,19 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
     ----------
     grid : ndarray (n,)
         Speeds [rad/s], increasing: the sweep's and an internal grid
-        (:func:`groundres.scan.probe_speeds`).
+        (:func:`groundres.assess.scan.probe_speeds`).
     values : ndarray (n,)
         ``excess`` on the grid [1/s].
     excess : callable
         ``excess(speeds) -> values`` at any speeds (arrays).
     kind : "eigen" or "floquet"
-        Accuracy of the refined peaks (:data:`groundres.scan.PEAK_XTOL`).
+        Accuracy of the refined peaks (:data:`groundres.assess.scan.PEAK_XTOL`).
     peaks : int
         Local maxima of the grid values refined to find ranges narrower than
         the grid (the largest first).
     closeness : callable, optional
         ``closeness(speeds)``: nearest approach of two roots
-        (:func:`groundres.modal.closest_pair`). An undamped coalescence range
+        (:func:`groundres.solve.modal.closest_pair`). An undamped coalescence range
         has no bump outside it (its roots are neutral until they meet), but
         its roots approach: the deepest local minima of the closeness are
         refined to where the roots meet, and the growth is probed beside it.
@@ -147,7 +147,7 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
     rough : callable, optional
         ``rough(speeds) -> (values, lower, upper)``: ``excess`` at a looser
         accuracy, for crossings and peaks to be looked for with
-        (:func:`groundres.scan.crossing`, :func:`groundres.scan.zoom_many`).
+        (:func:`groundres.assess.scan.crossing`, :func:`groundres.assess.scan.zoom_many`).
 
     Returns
     -------
@@ -307,7 +307,7 @@ def assess(
     max_real_at, min_damping_at : callable
         The same quantities at one speed, as accurate as the sweep's (to refine the worst values).
     probe : ndarray, optional
-        Internal speeds between the sweep's (:func:`groundres.scan.probe_speeds`).
+        Internal speeds between the sweep's (:func:`groundres.assess.scan.probe_speeds`).
     kind : "eigen" or "floquet"
     closeness : callable, optional
         Nearest approach of two roots at given speeds (:func:`find_ranges`).

@@ -63,10 +63,10 @@ class _Group(click.Group):
             sys.exit(0)
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
             from ..analysis import MethodError
-            from ..config import CaseError
-            from ..folders import OutputFolderError
-            from ..limits import ModelRangeError
-            from ..transition import SpeedRangeError
+            from ..assess.resolution import ModelRangeError
+            from ..model.schema import CaseError
+            from ..results.folders import OutputFolderError
+            from ..solve.floquet.transition import SpeedRangeError
 
             if isinstance(err, (CaseError, MethodError, ModelRangeError, SpeedRangeError, OutputFolderError)):
                 raise UserError(str(err)) from None

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from ..readout import fmt_frequency, fmt_speed, ref_note  # noqa: F401  (the commands' speed text)
+from ..model.units import fmt_frequency, fmt_speed, ref_note  # noqa: F401  (the commands' speed text)
 
 DEFAULT_CASE = "hammond-undamped"
 
@@ -62,7 +62,7 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
 
 def check_out(path: Path) -> None:
     """Refuse, before any work, an output folder that holds files groundres did not write."""
-    from ..folders import OutputFolderError, check_output_folder
+    from ..results.folders import OutputFolderError, check_output_folder
 
     try:
         check_output_folder(path)
@@ -80,7 +80,7 @@ def case_at_speed(case: str | None, speed: float):
     """The case and a --speed (in the case's unit) in rad/s."""
     import math
 
-    from ..params import SPEED_UNITS
+    from ..model.params import SPEED_UNITS
 
     the_case = load(case)
     unit = the_case.sweep.unit
@@ -89,12 +89,12 @@ def case_at_speed(case: str | None, speed: float):
     w = speed * SPEED_UNITS[unit]
     if not (math.isfinite(w) and w > 0):
         fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
-    from .. import limits
+    from ..assess import resolution
 
-    system, _ = limits.system_in_mass_unit(the_case.rotor, the_case.body)
+    system, _ = resolution.system_in_mass_unit(the_case.rotor, the_case.body)
     try:
-        limits.check_representable(system, w, "--speed", (unit, SPEED_UNITS[unit]))
-    except limits.ModelRangeError as err:
+        resolution.check_representable(system, w, "--speed", (unit, SPEED_UNITS[unit]))
+    except resolution.ModelRangeError as err:
         fail_user(str(err))
     return the_case, w
 
@@ -104,8 +104,8 @@ def load(case: str | None, named: bool = False):
 
     ``named``: the message names the argument (for commands that read several cases).
     """
-    from ..checks import shown
-    from ..config import CaseError, load_case
+    from ..model.schema import CaseError, load_case
+    from ..model.validate import shown
 
     if case is not None and not case.strip():
         default = "" if named else " (none: the default case)"

@@ -75,8 +75,8 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
     case.toml (the first case), case-<k>.toml (the k-th CASE) and
     provenance.json into --out, replacing the folder whole.
     """
-    from .. import folders, io
-    from ..comparison import compare
+    from ..results import files, folders
+    from ..results.comparison import compare
 
     console = make_console()
     plot = {
@@ -109,13 +109,13 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
         rows = comparison.differences()
         with steps.step("Writing results"), folders.output_folder(out_dir) as folder:
             for entry in comparison.entries:
-                io.write_summary(entry.result, folder / f"summary-{entry.number}.json")
-            io.write_csv(folder / "differences.csv", CSV_HEADER, [_csv_row(r) for r in rows])
-            io.write_json(folder / "differences.json", _json(comparison, rows))
+                files.write_summary(entry.result, folder / f"summary-{entry.number}.json")
+            files.write_csv(folder / "differences.csv", CSV_HEADER, [_csv_row(r) for r in rows])
+            files.write_json(folder / "differences.json", _json(comparison, rows))
             warm.join()
-            io.write_figure(comparison.plot(**plot), folder / f"compare.{fmt}")
+            files.write_figure(comparison.plot(**plot), folder / f"compare.{fmt}")
             for k, case in enumerate(loaded[1:], start=2):
-                io.write_bytes(folder / f"case-{k}.toml", case.text.encode("utf-8"))
+                files.write_bytes(folder / f"case-{k}.toml", case.text.encode("utf-8"))
             folders.write_provenance(
                 folder,
                 loaded[0],
@@ -159,7 +159,8 @@ def _csv_row(row: dict) -> list:
 
 
 def _json(comparison, rows) -> dict:
-    from ..comparison import (
+    from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+    from ..results.comparison import (
         PAIRING_NOTE,
         PEAK_SPEED_ROUND_OFF,
         QUANTITIES,
@@ -167,7 +168,6 @@ def _json(comparison, rows) -> dict:
         ROUND_OFF_NOTE,
         SPEED_ROUND_OFF,
     )
-    from ..stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 
     return {
         "baseline": 1,
@@ -212,7 +212,7 @@ def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
     """Baseline, entry and difference as the table shows them (speeds in the first case's
     unit): round-off never as a number. ``neutral``: entry number -> whether its largest
     real part is neutral (within the growth threshold of zero)."""
-    from ..params import SPEED_UNITS
+    from ..model.params import SPEED_UNITS
 
     speed = row["unit"] == "rad/s"
     width = row["quantity"] == "unstable_width"
@@ -244,7 +244,7 @@ def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
 
 
 def _print(console, comparison, rows, out_dir, fmt) -> None:
-    from ..comparison import neutral_max
+    from ..results.comparison import neutral_max
     from .printout import simple_table, threshold_text
 
     entries = comparison.entries

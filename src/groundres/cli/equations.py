@@ -67,7 +67,7 @@ def _numeric_parts(case, show) -> None:
     import numpy as np
     import sympy as sp
 
-    from ..system import System
+    from ..model.system import System
 
     def matrix(values):
         return show(sp.Matrix(np.round(values, 10).tolist()).applyfunc(lambda v: sp.Float(v, 6)))

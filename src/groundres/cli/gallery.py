@@ -63,23 +63,25 @@ def command(out, fmt, figures):
     if out is not None and not out.strip():
         fail_user(f"--out {out!r}: empty; give a folder, e.g. --out gallery")
     check_out(out_dir)
-    from .. import folders, io
     from ..pages.gallery import build, gallery_page
+    from ..results import files, folders
 
     label = f"Figures ({len(numbers)})"
     with Steps(console, {"figures": label, "page": "Writing the page"}) as steps:
         steps("figures", 0, len(numbers))
-        data, files = build(numbers, fmt, progress=lambda done, total: steps("figures", done, total))
+        data, pictures = build(numbers, fmt, progress=lambda done, total: steps("figures", done, total))
         meta = invocation()
         with steps.step("page"), folders.output_folder(out_dir) as folder:
-            for name, content in files.items():
-                io.write_bytes(folder / name, content)
-            io.write_json(folder / "gallery.json", data["json"])
-            io.write_text(folder / "index.html", gallery_page(data, shlex.join(["groundres", *meta["argv"]])))
+            for name, content in pictures.items():
+                files.write_bytes(folder / name, content)
+            files.write_json(folder / "gallery.json", data["json"])
+            files.write_text(
+                folder / "index.html", gallery_page(data, shlex.join(["groundres", *meta["argv"]]))
+            )
             folders.write_provenance(folder, _GalleryCase(), command="gallery", figures=list(numbers), **meta)
     for s in data["sections"]:
         console.print(f"Figure {s['figure'].number:2d} ({plain(s['figure'].case)}): {s['verdict'].word}")
-    console.print(f"Wrote {plain(out_dir)}/index.html, gallery.json and {len(files)} pictures")
+    console.print(f"Wrote {plain(out_dir)}/index.html, gallery.json and {len(pictures)} pictures")
 
 
 class _GalleryCase:

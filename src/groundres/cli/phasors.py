@@ -50,9 +50,9 @@ def command(case, speed, labels, gif, out, fmt):
     """
     import numpy as np
 
-    from .. import folders, io
     from ..analysis import analyze
-    from ..shapes import phasor_header
+    from ..results import files, folders
+    from ..results.shapes import phasor_header
 
     console = make_console()
     the_case, w = case_at_speed(case, speed)
@@ -87,7 +87,7 @@ def command(case, speed, labels, gif, out, fmt):
 
             with steps.step(f"Phasor diagrams of {label}"):
                 fig = phasor_diagram(shape, speed_text=speed_text)
-                io.write_figure(fig, folder / f"phasors_{slug}.{fmt}")
+                files.write_figure(fig, folder / f"phasors_{slug}.{fmt}")
             frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
             for frame, items in frames.items():
                 rows += [{"mode": label, "frame": frame, **item} for item in items]
@@ -96,7 +96,7 @@ def command(case, speed, labels, gif, out, fmt):
                 from ..plotting.animation import mode_animation
 
                 anim = mode_animation(shape, speed_text=speed_text)
-                with io.atomic_path(folder / f"mode_{slug}.gif") as tmp:
+                with files.atomic_path(folder / f"mode_{slug}.gif") as tmp:
                     from matplotlib.animation import PillowWriter
 
                     task = f"Animated shape of {label} [frames]"
@@ -106,8 +106,8 @@ def command(case, speed, labels, gif, out, fmt):
                         dpi=70,
                         progress_callback=steps.callback and (lambda i, n, task=task: steps(task, i + 1, n)),
                     )
-        io.write_json(folder / "phasors.json", report)
-        io.write_csv(folder / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
+        files.write_json(folder / "phasors.json", report)
+        files.write_csv(folder / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])
         folders.write_provenance(
             folder,
             the_case,
@@ -153,7 +153,7 @@ REPORT_UNITS = {
 
 def _report_entry(shape, frames, sweep) -> dict:
     """One mode of phasors.json: strict JSON, a reason beside every null."""
-    from ..params import SPEED_UNITS
+    from ..model.params import SPEED_UNITS
 
     lam = shape.eigenvalue
     no_motion = "the coordinate does not move in this mode (zero displacement): no phase"

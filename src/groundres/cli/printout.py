@@ -8,9 +8,9 @@ values within the growth threshold of zero print as neutral, not as numbers
 
 from __future__ import annotations
 
-from ..params import FREQUENCY_UNITS
-from ..readout import significant
-from ..summary import no_exact_reason, open_below_note
+from ..model.params import FREQUENCY_UNITS
+from ..model.units import significant
+from ..results.summary import no_exact_reason, open_below_note
 from .common import fmt_speed, plain, ref_note
 
 
@@ -25,7 +25,7 @@ def simple_table(title: str):
 
 
 def threshold_text() -> str:
-    from ..stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+    from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 
     return f"{GROWTH_PER_RADIAN:g} 1/s per rad/s of rotor speed + {GROWTH_FLOOR:g} 1/s"
 
@@ -66,7 +66,8 @@ def unstable_table(summary: dict, sweep):
 
 
 def range_notes(summary: dict, sweep) -> list[str]:
-    """Lines explaining a range whose start is only a bound (:func:`groundres.summary.open_below_note`)."""
+    """Lines explaining a range whose start is only a bound
+    (:func:`groundres.results.summary.open_below_note`)."""
     return [
         f"<= {fmt_speed(r['start'], sweep)}: {open_below_note(fmt_speed(r['start'], sweep))}."
         for r in summary["unstable_ranges"]
@@ -109,7 +110,7 @@ def _installed(lag: dict) -> str:
 
 def deutsch_table(summary: dict, sweep):
     """One row per body mode: tuning, requirement and the verdict on the installed damper."""
-    from ..params import SPEED_UNITS
+    from ..model.params import SPEED_UNITS
 
     lag = summary["lag_damping"]
     unit = sweep.unit

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from ..checks import shown
+from ..model.validate import shown
 from .common import (
     FORMAT,
     Steps,
@@ -127,8 +127,8 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     out_dir = output_dir(name, out, "report")
     check_out(out_dir)
     warm = warm_plotting()
-    from .. import folders, io
     from ..analysis import analyze
+    from ..results import files, folders
 
     with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
@@ -139,17 +139,17 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
             from ..pages.report import report_page
 
             meta = invocation()
-            html, files = report_page(
+            html, pictures = report_page(
                 result,
                 fmt=fmt,
                 study=study_dir,
                 command_line=shlex.join(["groundres", *meta["argv"]]),
                 plot=plot,
             )
-            io.write_summary(result, folder / "summary.json")
-            for file_name, data in files.items():
-                io.write_bytes(folder / file_name, data)
-            io.write_text(folder / "index.html", html)
+            files.write_summary(result, folder / "summary.json")
+            for file_name, data in pictures.items():
+                files.write_bytes(folder / file_name, data)
+            files.write_text(folder / "index.html", html)
             folders.write_provenance(
                 folder,
                 the_case,
@@ -162,5 +162,5 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     verdict = "stable over the sweep" if result.stability.stable else "unstable"
     console.print(f"{plain(the_case.title)}: {verdict}.")
     console.print(
-        f"Wrote {plain(out_dir)}/index.html ({', '.join(files)}, summary.json, case.toml, provenance.json)"
+        f"Wrote {plain(out_dir)}/index.html ({', '.join(pictures)}, summary.json, case.toml, provenance.json)"
     )

@@ -72,8 +72,8 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
     out_dir = output_dir(case, out)
     check_out(out_dir)
     warm = warm_plotting()
-    from .. import folders
     from ..analysis import analyze
+    from ..results import folders
     from .printout import print_result
 
     with Steps(console, STAGES) as steps:
@@ -125,14 +125,14 @@ def _write_all(
 ) -> None:
     """Write the four result files into ``out_dir`` (the picture last: its imports finish meanwhile).
 
-    ``plot``: keyword arguments of :meth:`~groundres.results.SweepResult.plot`; ``fmt``: the
+    ``plot``: keyword arguments of :meth:`~groundres.results.sweep.SweepResult.plot`; ``fmt``: the
     picture's format (png, svg or pdf).
     """
-    from .. import io
+    from ..results import files
 
-    io.write_summary(result, out_dir / "summary.json")
-    io.write_modes_csv(result, out_dir / "modes.csv")
-    io.write_modes_netcdf(result, out_dir / "modes.nc")
+    files.write_summary(result, out_dir / "summary.json")
+    files.write_modes_csv(result, out_dir / "modes.csv")
+    files.write_modes_netcdf(result, out_dir / "modes.nc")
     if warm is not None:
         warm.join()
-    io.write_figure(result.plot(**plot), out_dir / f"coleman.{fmt}")
+    files.write_figure(result.plot(**plot), out_dir / f"coleman.{fmt}")

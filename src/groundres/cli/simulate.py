@@ -51,13 +51,13 @@ def command(case, speed, duration, initial, out, fmt):
 
     import numpy as np
 
-    from .. import folders, io
-    from .. import simulate as sim_module
     from ..analysis import METHOD_NAMES, choose_method, root_solver
-    from ..dataset import coordinate_unit
+    from ..assess.stability import is_neutral
+    from ..model.system import System
     from ..plotting.timehistory import time_history
-    from ..stability import is_neutral
-    from ..system import System
+    from ..results import files, folders
+    from ..results.dataset import coordinate_unit
+    from ..solve import simulate as sim_module
 
     console = make_console()
     if duration is not None and not (math.isfinite(duration) and duration > 0):
@@ -97,12 +97,12 @@ def command(case, speed, duration, initial, out, fmt):
                 predicted=predicted,
                 speed_text=fmt_speed(w, the_case.sweep),
             )
-            io.write_figure(fig, folder / f"simulation.{fmt}")
+            files.write_figure(fig, folder / f"simulation.{fmt}")
             header = ["time [s]"] + [
                 f"{c.symbol if c.kind == 'body' else f'{c.kind}{c.name}'} [{coordinate_unit(c)}]"
                 for c in sim.coordinates
             ]
-            io.write_csv(folder / "simulation.csv", header, np.column_stack([sim.time, sim.displacement]))
+            files.write_csv(folder / "simulation.csv", header, np.column_stack([sim.time, sim.displacement]))
             folders.write_provenance(
                 folder,
                 the_case,
@@ -162,12 +162,12 @@ def _checked_duration(system, unit: str, speed: float, w: float, duration: float
     ``settle`` [s] to stand out, :func:`_settling`) once it is long enough to measure growth and
     short enough to run.
 
-    The integration steps are estimated before integrating (:func:`groundres.simulate.estimate_steps`)
-    and a run over :data:`groundres.simulate.MAX_STEPS` is refused, saying what to change.
+    The integration steps are estimated before integrating (:func:`groundres.solve.simulate.estimate_steps`)
+    and a run over :data:`groundres.solve.simulate.MAX_STEPS` is refused, saying what to change.
     """
     import math
 
-    from .. import simulate as sim_module
+    from ..solve import simulate as sim_module
 
     revolution = 2 * math.pi / w
     at_speed = f"at {speed:g} {unit}"

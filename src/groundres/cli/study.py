@@ -110,8 +110,9 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     unstable_width, first_unstable_speed, stable, error) and map.<format>
     (png unless --format says) into --out. Runs on a local Dask cluster unless --scheduler names one.
     """
-    from .. import folders, io, studies
-    from ..parallel import CORES
+    from ..results import files, folders
+    from ..solve.parallel import CORES
+    from ..studies import study as studies
 
     console = make_console()
     the_case = load(case)
@@ -144,7 +145,7 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     out_dir.mkdir(parents=True, exist_ok=True)
     if boundary is not None:
         studies.write_netcdf(ds, out_dir / "boundary.nc")
-    io.write_figure(studies.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
+    files.write_figure(studies.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
     for stale in MAP_FILES - {f"map.{fmt}"}:  # (a map of an earlier run in another format: not this study's)
         (out_dir / stale).unlink(missing_ok=True)
     folders.write_provenance(out_dir, the_case, command="study", **invocation())

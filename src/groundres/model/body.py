@@ -29,7 +29,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .checks import ParameterError, finite, lengths, non_negative, positive
+from .validate import ParameterError, finite, lengths, non_negative, positive
 
 BODY_DOFS = ("x", "y", "z", "pitch", "roll", "yaw")
 #: Coordinates that translate (their inertia is a mass).
@@ -94,7 +94,7 @@ class Leg:
 
     def matrix(self, kind: str) -> np.ndarray:
         """The leg's ``kind`` ("stiffness" or "damping") matrix on all six body coordinates."""
-        from .symbolic.codegen import generated
+        from ..symbolic.codegen import generated
 
         return generated("leg_matrix")(
             position_x=self.position_x,
@@ -282,7 +282,7 @@ class Body:
                     for kind in ("inertia", "damping", "stiffness")
                 ]
             )
-        from .symbolic.codegen import generated
+        from ..symbolic.codegen import generated
 
         mass = generated("rigid_body_mass")(**{k: getattr(self, k) for k in RIGID_KEYS})
         damping = sum(leg.matrix("damping") for leg in self.gear)

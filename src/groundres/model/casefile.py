@@ -3,7 +3,7 @@
 Everything a case file can be before it is a case is checked here, with a
 message naming the file: missing, a folder, too large, not UTF-8, keys
 nested too deep for the TOML reader, invalid TOML, a number too long to
-read. What the data may hold is :mod:`groundres.config`'s concern.
+read. What the data may hold is :mod:`groundres.model.schema`'s concern.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from .checks import shown
+from .validate import shown
 
 
 class CaseError(ValueError):

@@ -27,7 +27,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .checks import ParameterError, lengths, non_negative
+from .validate import ParameterError, lengths, non_negative
 
 #: Damper kinds and the blades each spans (0: to the hub).
 KINDS = {"blade-to-hub": 0, "blade-to-blade": 1, "blade-to-next-but-one": 2}
@@ -90,7 +90,7 @@ class Damper:
 
         ``offsets``: every blade's hinge offset [m].
         """
-        from .symbolic.codegen import generated
+        from ..symbolic.codegen import generated
 
         ends = {name: getattr(self, name) for name in GEOMETRY}
         k = self.blade - 1

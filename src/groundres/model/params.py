@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from .body import BODY_DOFS, Body, Leg  # noqa: F401  (re-exported)
-from .checks import ParameterError, finite, non_negative, positive, shown  # noqa: F401  (re-exported)
+from .validate import ParameterError, finite, non_negative, positive, shown  # noqa: F401  (re-exported)
 
 SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 #: How a frequency reads in a case whose speeds are in each unit (rpm: cycles/min).
@@ -113,7 +113,7 @@ class Rotor:
     flap : bool
         Whether each blade has a flap degree of freedom.
     dampers : tuple of Damper
-        Lag damper rods (:mod:`groundres.dampers`), besides each blade's own
+        Lag damper rods (:mod:`groundres.model.dampers`), besides each blade's own
         rotational ``lag_damping``.
     """
 

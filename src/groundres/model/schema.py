@@ -1,4 +1,4 @@
-"""Read a case file (TOML) into a :class:`~groundres.params.Case`.
+"""Read a case file (TOML) into a :class:`~groundres.model.params.Case`.
 
 The format is documented in ``docs/case-files.md``. Every mistake raises
 :class:`CaseError` with one readable line naming the key, the value and what

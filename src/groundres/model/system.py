@@ -3,7 +3,7 @@
 The blade-coordinate equations (body coordinates, then lag of blades 1..N, then
 flap of blades 1..N) have periodic coefficients; :meth:`System.matrices` gives
 them at any azimuth. :meth:`System.multiblade` and :meth:`System.rotating_axes`
-give the time-invariant forms where they exist (see :mod:`groundres.mbc`).
+give the time-invariant forms where they exist (see :mod:`groundres.model.mbc`).
 """
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from functools import cached_property
 
 import numpy as np
 
+from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function
 from . import dampers, mbc
 from .mbc import Coordinate
 from .params import BODY_DOFS, Body, Rotor
-from .symbolic.codegen import BLADE_ARGUMENTS, blade_function
 
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
 
@@ -111,7 +111,7 @@ class System:
     @cached_property
     def rod_matrices(self) -> np.ndarray:
         """Damping and stiffness of the damper rods on these coordinates, (2, n, n):
-        constant (:mod:`groundres.dampers`)."""
+        constant (:mod:`groundres.model.dampers`)."""
         return dampers.matrices(self.rotor, self.n_body, self.rotor.flap)
 
     def matrices(self, speeds, phase=0.0, harmonics=None):

@@ -9,8 +9,8 @@ eigenvalues and eigenvectors for periodic systems", JAHS 56, 032001): a
 time-invariant multiblade analysis has the single harmonic m = 0, a
 rotating-axes or Floquet analysis several. From it:
 
-1. **Content** of each root per label and harmonic (:mod:`groundres.content`)
-   and the **modes**, pairs of roots (:mod:`groundres.pairs`).
+1. **Content** of each root per label and harmonic (:mod:`groundres.modes.participation`)
+   and the **modes**, pairs of roots (:mod:`groundres.modes.pairing`).
 2. **Labels.** At every speed each mode takes the label its content ranks
    first, by optimal assignment so that every label is used once. Where two
    labels are within :data:`LABEL_MARGIN` of each other a mode keeps the
@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .content import ZERO, group_parts, label_content, label_groups, offsets, own_coordinates
-from .pairs import pair_roots
+from .pairing import pair_roots
+from .participation import ZERO, group_parts, label_content, label_groups, offsets, own_coordinates
 
 #: Content fraction within which a label stays with the mode that had it.
 LABEL_MARGIN = 0.05

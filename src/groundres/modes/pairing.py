@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .content import ZERO
+from .participation import ZERO
 
 
 def _best_matching(items, cost):

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mbc import Coordinate
+from ..model.mbc import Coordinate
 
 _PAIRS = {("x", "y"): "whirl", ("pitch", "roll"): "tilt"}
 #: Relative size below which a frequency counts as zero (real roots).

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..comparison import SPEED_ROUND_OFF
+from ..results.comparison import SPEED_ROUND_OFF
 from .figures import FIGURES, NUMBERS, Figure, figure
 from .verdicts import (
     QUADRATURE_TOLERANCE,
@@ -39,7 +39,7 @@ class _Results:
 
     def get(self, case_name: str, method: str, frame: str, extra_speeds=()):
         from ..analysis import analyze
-        from ..config import load_case
+        from ..model.schema import load_case
 
         key = (case_name, method, frame, tuple(extra_speeds))
         if key not in self._done:
@@ -113,7 +113,7 @@ def _same_as(fig: Figure, main, results: _Results, verdict: Verdict, record: dic
 def _smeared_verdict(fig: Figure, main) -> Verdict:
     """Figure 10: no number in the paper; the Floquet ranges against the smeared-damper approximation."""
     from ..analysis import analyze
-    from ..config import load_case
+    from ..model.schema import load_case
 
     smeared, mean = smeared_case(load_case(fig.case))
     approx = analyze(smeared, frame=fig.frame, method="auto", lag_damping_search=False)
@@ -132,9 +132,9 @@ def _smeared_verdict(fig: Figure, main) -> Verdict:
 
 
 def _phasors(fig: Figure, results: _Results, fmt: str, files: dict, record: dict) -> dict:
-    from ..config import load_case
+    from ..model.schema import load_case
+    from ..model.units import fmt_speed
     from ..plotting.phasors import phasor_diagram
-    from ..readout import fmt_speed
 
     case = load_case(fig.case)
     ws = speeds_si(fig, case)
@@ -186,7 +186,7 @@ def build(numbers=NUMBERS, fmt: str = "png", progress=None) -> tuple[dict, dict[
         verdict = body["verdict"]
         record.update(verdict=verdict.word, computed=verdict.computed, reason=verdict.reason)
         records.append(record)
-        from ..config import load_case
+        from ..model.schema import load_case
 
         case = load_case(fig.case)
         record["configuration"] = configuration_text(case)
@@ -207,7 +207,7 @@ def build(numbers=NUMBERS, fmt: str = "png", progress=None) -> tuple[dict, dict[
 
 def configuration_text(case) -> str:
     """The case in one line: blades, body, dampers and the lag frequency at the reference speed."""
-    from ..deutsch import lag_frequency_per_rev
+    from ..assess.deutsch import lag_frequency_per_rev
 
     rotor, body, sweep = case.rotor, case.body, case.sweep
     dampers = sorted({b.lag_damping for b in rotor.blades})

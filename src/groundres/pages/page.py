@@ -9,7 +9,7 @@ from datetime import UTC, datetime
 
 from markupsafe import Markup, escape
 
-from ..readout import significant
+from ..model.units import significant
 
 #: MIME types of the pictures a page can embed.
 MIME = {"png": "image/png", "svg": "image/svg+xml", "gif": "image/gif", "jpeg": "image/jpeg"}

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..readout import fmt_frequency, fmt_speed
+from ..model.units import fmt_frequency, fmt_speed
 from .page import number, paragraphs, picture, render
 
 
@@ -45,7 +45,7 @@ def worst_point(result, summary: dict):
     which have no phase to show; where that mode is neutral over the whole
     sweep (nothing damps it), at the reference speed.
     """
-    from ..stability import growth_threshold
+    from ..assess.stability import growth_threshold
 
     mr = summary["max_real_part"]
     if mr["value"] is not None and not mr["neutral"] and mr["value"] > 0:
@@ -294,11 +294,12 @@ def report_page(
     command_line: str = "",
     plot: dict | None = None,
 ) -> tuple[str, dict[str, bytes]]:
-    """The HTML report of a :class:`~groundres.results.SweepResult`, and the pictures to write beside it.
+    """The HTML report of a :class:`~groundres.results.sweep.SweepResult`, and the pictures to
+    write beside it.
 
     Returns ``(html, files)``: ``files`` maps file names (``coleman.<fmt>``,
     ``phasors.<fmt>``) to their bytes. The page embeds the pictures itself.
-    ``plot``: keyword arguments of :meth:`~groundres.results.SweepResult.plot`
+    ``plot``: keyword arguments of :meth:`~groundres.results.sweep.SweepResult.plot`
     for the Coleman diagram (speed axis, limits, modes).
     """
     case = result.case

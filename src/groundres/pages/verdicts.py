@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..comparison import overlaps
-from ..params import SPEED_UNITS
+from ..model.params import SPEED_UNITS
+from ..results.comparison import overlaps
 
 #: Largest difference of a range end from the paper's, in units of the reference speed, that
 #: still agrees: the paper gives its ends to 0.05-0.1 (read off its plots), so 0.06 is half a

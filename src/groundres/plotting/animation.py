@@ -8,7 +8,7 @@ import numpy as np
 def mode_animation(
     shape, frames: int = 60, cycles: float = 2.0, exaggeration_deg: float = 18.0, speed_text: str = ""
 ):
-    """An animation of a :class:`~groundres.shapes.ModeShape` seen from above.
+    """An animation of a :class:`~groundres.results.shapes.ModeShape` seen from above.
 
     Left: nonrotating axes (the rotor turns); right: rotating axes (the blades
     stay, the hub moves). Lag and hub motion are exaggerated by one factor

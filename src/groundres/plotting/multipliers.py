@@ -26,7 +26,7 @@ def multipliers(result) -> np.ndarray:
 
 
 def multiplier_diagram(result, fig=None):
-    """Draw the Floquet diagram of a Floquet :class:`~groundres.results.SweepResult`.
+    """Draw the Floquet diagram of a Floquet :class:`~groundres.results.sweep.SweepResult`.
 
     Returns
     -------

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..params import FREQUENCY_UNITS, SPEED_UNITS
-from ..stability import growth_threshold
+from ..assess.stability import growth_threshold
+from ..model.params import FREQUENCY_UNITS, SPEED_UNITS
 from .axes import checked_limits, checked_modes, speed_scale
 from .coleman import label_stretches
 from .titles import figure_title, literal
@@ -84,7 +84,7 @@ def overlay_diagram(
 
     Parameters
     ----------
-    comparison : groundres.comparison.Comparison
+    comparison : groundres.results.comparison.Comparison
     fig : matplotlib Figure, optional
         Figure to draw in (three axes are added); a new one if None.
     show_damping_ratio : bool

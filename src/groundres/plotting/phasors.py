@@ -8,7 +8,7 @@ _GROUPS = (("body", "body"), ("lag", "lag"), ("flap", "flap"))
 
 
 def phasor_diagram(shape, fig=None, speed_text=""):
-    """Draw the phasors of a :class:`~groundres.shapes.ModeShape` in both frames.
+    """Draw the phasors of a :class:`~groundres.results.shapes.ModeShape` in both frames.
 
     Top row: nonrotating axes (body and multiblade coordinates); bottom row:
     rotating axes (each blade; body in rotating axes). One panel per group

@@ -219,7 +219,7 @@ def _one_key(fig, ds, key, failures, design):
 
 
 def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str = ""):
-    """The figure of a boundary search (:func:`groundres.studies.boundary`).
+    """The figure of a boundary search (:func:`groundres.studies.study.boundary`).
 
     ``keys``: the study's varied keys in order (the boundary key among them),
     which set the axes as in :func:`study_map`: the boundary against the first

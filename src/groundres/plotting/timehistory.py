@@ -61,7 +61,7 @@ def _fitted_line(time, amplitude, rate):
 
 
 def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_text=None):
-    """Plot a :class:`~groundres.simulate.Simulation`.
+    """Plot a :class:`~groundres.solve.simulate.Simulation`.
 
     Parameters
     ----------

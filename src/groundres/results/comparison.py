@@ -4,7 +4,7 @@ An entry is one case analysed by one method (and the frame asked for). The
 first entry is the baseline; :meth:`Comparison.differences` gives, for every
 other entry, how its unstable rotor-speed ranges and its largest real part
 differ from the baseline's. Wiring only: every number comes from
-:func:`groundres.analysis.analyze` and :class:`groundres.stability.Stability`.
+:func:`groundres.analysis.analyze` and :class:`groundres.assess.stability.Stability`.
 
 Speeds are in rad/s and real parts in 1/s here (SI, the data contract); the
 command line and the figure speak the first case's unit.
@@ -21,9 +21,9 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .params import Case
-from .results import SweepResult
-from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
+from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
+from ..model.params import Case
+from .sweep import SweepResult
 
 #: What each quantity of :meth:`Comparison.differences` is, and its unit.
 QUANTITIES = {
@@ -37,16 +37,16 @@ QUANTITIES = {
 
 #: Round-off of a range end, relative to the speed [-]. An end is the root of
 #: (largest real part - growth threshold) in speed, found by Brent's method to
-#: 1e-12 rad/s + 1e-10 of the speed (:func:`groundres.scan.crossing`). An error e
+#: 1e-12 rad/s + 1e-10 of the speed (:func:`groundres.assess.scan.crossing`). An error e
 #: in the real part moves the end by e / slope: with roots accurate to ~1e-9 of
 #: their size ``abs(eigenvalue)`` (Floquet, transition tolerance 5e-11 per entry,
-#: :mod:`groundres.transition`; eigen-analysis better) and the slopes at the ends
+#: :mod:`groundres.solve.floquet.transition`; eigen-analysis better) and the slopes at the ends
 #: of the shipped cases (0.02 to 2 1/s per rad/s), at most ~6e-8 of the speed.
 #: Measured: eigen and Floquet ends of hammond-one-damper-isotropic agree to 4e-12.
 SPEED_ROUND_OFF = 1e-7
 #: Round-off of the speed of the largest real part, relative [-]: the argument of
 #: a flat maximum, found by bounded Brent to 1e-6 of the bracket's upper speed
-#: (:mod:`groundres.stability`); a value error d moves it by a further
+#: (:mod:`groundres.assess.stability`); a value error d moves it by a further
 #: ``sqrt(2 d / abs(f''))``. Ten times the search tolerance.
 PEAK_SPEED_ROUND_OFF = 1e-5
 
@@ -161,10 +161,10 @@ class Comparison:
     ):
         """The entries' Coleman diagrams overlaid (a matplotlib Figure).
 
-        Options as :meth:`groundres.results.SweepResult.plot`; see
+        Options as :meth:`groundres.results.sweep.SweepResult.plot`; see
         :func:`groundres.plotting.overlay.overlay_diagram`.
         """
-        from .plotting.overlay import overlay_diagram
+        from ..plotting.overlay import overlay_diagram
 
         return overlay_diagram(
             self,
@@ -208,8 +208,8 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
     >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
     >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
     """
-    from .analysis import MethodError, analyze
-    from .config import load_case
+    from ..analysis import MethodError, analyze
+    from ..model.schema import load_case
 
     cases = [c if isinstance(c, Case) else load_case(c) for c in cases]
     methods = list(methods) if methods else [None]

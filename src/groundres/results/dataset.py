@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._version import __version__
-from .body import TRANSLATIONS
-from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+from .._version import __version__
+from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
+from ..model.body import TRANSLATIONS
 from .summary import open_below_note
 
 CONVENTIONS = "CF-1.10"
@@ -116,7 +116,7 @@ def _flag(dims, values, long_name, meanings):
 
 
 def dataset(result):
-    """``(coords, variables, attrs)`` of a :class:`~groundres.results.SweepResult`.
+    """``(coords, variables, attrs)`` of a :class:`~groundres.results.sweep.SweepResult`.
 
     ``coords`` and ``variables`` map names to ``(dims, values, attrs)``.
     """

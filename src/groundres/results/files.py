@@ -1,7 +1,7 @@
 """Result files and output folders.
 
 Each file is written atomically (a temporary file renamed into place); the
-folder they go into is put in place whole by :mod:`groundres.folders`. The
+folder they go into is put in place whole by :mod:`groundres.results.folders`. The
 result files:
 
 * ``summary.json``: see docs/case-files.md; strict JSON (no NaN or Infinity
@@ -11,7 +11,7 @@ result files:
   ``speed [rad/s]``, ``mode``, ``frequency [rad/s]`` (in the result's frame),
   ``real_part [1/s]``, ``damping_ratio [-]``;
 * ``modes.nc``: the same as a NetCDF-4 data set (CF conventions) with dims
-  ``speed``, ``mode`` (see :mod:`groundres.dataset`).
+  ``speed``, ``mode`` (see :mod:`groundres.results.dataset`).
 """
 
 from __future__ import annotations

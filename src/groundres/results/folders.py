@@ -20,7 +20,7 @@ import tempfile
 import threading
 from pathlib import Path
 
-from .io import current_umask, strict, write_bytes, write_json
+from .files import current_umask, strict, write_bytes, write_json
 
 #: The file that marks a folder as groundres output (and lists its files).
 PROVENANCE = "provenance.json"
@@ -268,7 +268,7 @@ def write_provenance(
     from datetime import UTC, datetime
     from importlib import metadata
 
-    from ._version import __version__
+    from .._version import __version__
 
     folder = Path(folder)
     data = case.text.encode("utf-8")

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import mbc
+from ..model import mbc
 
 
 @dataclass(frozen=True)
@@ -131,7 +131,7 @@ class ModeShape:
         The hub centre's other coordinates from the pivot [m].
     rotating_frequency : float, optional
         The mode's frequency seen from rotating axes [rad/s] as identified
-        (:mod:`groundres.identify`): the rotating-frame phasors are taken at
+        (:mod:`groundres.modes.identify`): the rotating-frame phasors are taken at
         the harmonic with that frequency, so that they and the Coleman
         diagram name the same motion.
     """
@@ -165,14 +165,14 @@ class ModeShape:
 
     @property
     def unstable(self) -> bool:
-        from .stability import growth_threshold
+        from ..assess.stability import growth_threshold
 
         return self.eigenvalue.real > growth_threshold(self.rotor_speed)
 
     @property
     def neutral(self) -> bool:
         """Real part within the growth threshold of zero (round-off: neither grows nor decays)."""
-        from .stability import is_neutral
+        from ..assess.stability import is_neutral
 
         return bool(is_neutral(self.eigenvalue.real, self.rotor_speed))
 

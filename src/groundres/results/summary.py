@@ -11,11 +11,11 @@ import math
 
 import numpy as np
 
-from ._version import __version__
-from .damping_search import RTOL
-from .deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
-from .stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
-from .system import searched
+from .._version import __version__
+from ..assess.damping_search import RTOL
+from ..assess.deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
+from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
+from ..model.system import searched
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -121,7 +121,7 @@ def _lag_frequency_at(rotor, speed) -> dict:
 
 
 def summary(result) -> dict:
-    """The summary.json content of a :class:`~groundres.results.SweepResult`."""
+    """The summary.json content of a :class:`~groundres.results.sweep.SweepResult`."""
     st = result.stability
     case = result.case
     sweep = case.sweep

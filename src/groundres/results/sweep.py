@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .identify import Modes
-from .params import Case
-from .stability import Stability, growth_threshold
+from ..assess.stability import Stability, growth_threshold
+from ..model.params import Case
+from ..modes.identify import Modes
 
 
 @dataclass
@@ -29,7 +29,7 @@ class SweepResult:
     rotor_speed : ndarray (n_s,)
         [rad/s].
     modes : Modes
-        Labelled modes (see :class:`groundres.identify.Modes`).
+        Labelled modes (see :class:`groundres.modes.identify.Modes`).
     stability : Stability
     deutsch : list of DeutschEntry
     exact_lag_damping : float or None
@@ -109,7 +109,7 @@ class SweepResult:
         Returns
         -------
         ModeShape
-            Phasors, whirl decomposition and motion (see :mod:`groundres.shapes`).
+            Phasors, whirl decomposition and motion (see :mod:`groundres.results.shapes`).
 
         Examples
         --------
@@ -144,7 +144,7 @@ class SweepResult:
         return self.labels[int(np.nanargmax(values[i]))]
 
     def summary(self) -> dict:
-        """The summary.json content (see :mod:`groundres.summary` and docs/case-files.md)."""
+        """The summary.json content (see :mod:`groundres.results.summary` and docs/case-files.md)."""
         from .summary import summary
 
         return summary(self)
@@ -154,7 +154,7 @@ class SweepResult:
 
         ``coords`` and ``variables`` map names to ``(dims, values, attrs)``; this
         is the single description behind :meth:`to_xarray` and ``modes.nc``
-        (CF conventions, see :mod:`groundres.dataset`).
+        (CF conventions, see :mod:`groundres.results.dataset`).
         """
         from .dataset import dataset
 
@@ -202,7 +202,7 @@ class SweepResult:
         --------
         >>> result.plot(modes=["regressive lag"], real_limits=(-0.5, 0.1))  # doctest: +SKIP
         """
-        from .plotting.coleman import coleman_diagram
+        from ..plotting.coleman import coleman_diagram
 
         return coleman_diagram(
             self,

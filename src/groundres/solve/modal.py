@@ -10,7 +10,7 @@
   continuous branch (eigenvector similarity and predicted eigenvalue, optimal
   assignment).
 
-Labels and frequencies of the roots come from :mod:`groundres.identify`.
+Labels and frequencies of the roots come from :mod:`groundres.modes.identify`.
 """
 
 from __future__ import annotations
@@ -73,7 +73,7 @@ def coupling_blocks(mass, damping, stiffness, tol=1e-9) -> list[np.ndarray]:
 
 def batched(fn, a):
     """Apply a batched LAPACK call over the leading axis, split across cores
-    (:func:`groundres.parallel.map_threads`)."""
+    (:func:`groundres.solve.parallel.map_threads`)."""
     if a.ndim < 3 or a.shape[0] < 256 or CORES < 2:
         return fn(a)
     parts = map_threads(fn, np.array_split(a, CORES))

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .limits import ModelRangeError
-from .system import System
+from ..assess.resolution import ModelRangeError
+from ..model.system import System
 
 
 @dataclass
@@ -108,7 +108,7 @@ def simulate(
         percent of ``duration``.
     max_steps : float, optional
         Steps after which the integration stops with
-        :class:`~groundres.limits.ModelRangeError` (round-off can keep an
+        :class:`~groundres.assess.resolution.ModelRangeError` (round-off can keep an
         adaptive step from growing); by default four times the estimate
         (:func:`estimate_steps`), at least 2000 and at most 4 :data:`MAX_STEPS`.
 

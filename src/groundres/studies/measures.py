@@ -13,9 +13,9 @@ import math
 import numpy as np
 
 from ..analysis import MethodError, analyze
-from ..config import CaseError
-from ..limits import ModelRangeError
-from ..transition import SpeedRangeError
+from ..assess.resolution import ModelRangeError
+from ..model.schema import CaseError
+from ..solve.floquet.transition import SpeedRangeError
 
 #: name -> (dtype, units, long_name): the data variables of a study.
 MEASURES = {
@@ -45,7 +45,7 @@ def empty(n: int) -> dict:
 
 
 def stability_of(case):
-    """The case's :class:`groundres.stability.Stability`: :func:`groundres.analyze` without the
+    """The case's :class:`groundres.assess.stability.Stability`: :func:`groundres.analyze` without the
     damping search."""
     return analyze(case, lag_damping_search=False).stability
 

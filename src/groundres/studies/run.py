@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import parallel
+from ..solve import parallel
 from .grid import NO_FAILURE, Grid, varied_case
 from .measures import ERROR, MEASURES, POINT_ERRORS, empty, failed, of_case
 from .store import chunk_shape, chunks, flat_indices, open_store, write_chunk

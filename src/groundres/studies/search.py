@@ -17,7 +17,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..stability import growth_threshold
+from ..assess.stability import growth_threshold
 from .grid import Grid, varied_case
 from .measures import POINT_ERRORS, failed, stability_of
 

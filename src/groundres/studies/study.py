@@ -171,8 +171,8 @@ def deutsch_curve(case, grid: Grid):
     NaN where no body mode is tuned inside the sweep; a str saying why the
     criterion does not apply; or None (no lag-damping key, or not two keys).
     """
-    from ..config import CaseError
-    from ..deutsch import deutsch
+    from ..assess.deutsch import deutsch
+    from ..model.schema import CaseError
     from .grid import varied_case
 
     if len(grid.keys) != 2:
@@ -223,7 +223,7 @@ def boundary(
     """The stability boundary along ``key`` for every value of the other varied keys.
 
     ``vary`` as for :func:`study`; ``key`` one of its keys, whose range is
-    searched by root finding (:mod:`groundres.studies.boundary`) instead of
+    searched by root finding (:mod:`groundres.studies.study.boundary`) instead of
     sampled. Returns a data set over the other keys (and ``failure``):
     ``boundary`` [the key's units], ``stable_at_start``, ``evaluations`` and
     ``error``.

@@ -4,7 +4,7 @@ Each blade's coefficients are trigonometric polynomials in its azimuth
 psi_k = psi + 2 pi (k-1)/N. Writing z_k = exp(i psi_k) and w = exp(i psi), a
 sum over the blades of z_k^a is N w^a when N divides a and zero otherwise, so
 the multiblade matrices follow exactly, without trigonometric simplification.
-Rows are premultiplied by T' as in :mod:`groundres.mbc` (cyclic blade rows are
+Rows are premultiplied by T' as in :mod:`groundres.model.mbc` (cyclic blade rows are
 N/2 times the averaged equations). The result is free of w (time-invariant)
 for N >= 3; for N = 2 the periodic terms remain, written with psi.
 """

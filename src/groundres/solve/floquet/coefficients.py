@@ -32,8 +32,8 @@ import threading
 
 import numpy as np
 
-from .parallel import CORES, map_threads
-from .system import System
+from ...model.system import System
+from ..parallel import CORES, map_threads
 
 #: Largest node grid kept on a system [values]; finer grids are evaluated in pieces.
 GRID_CACHE_SIZE = 4_000_000
@@ -138,7 +138,7 @@ def node_blocks(system: System, psi, directions: int = 0) -> np.ndarray:
     The node matrices in compact form: F = sum_b coef_b X_b placed on the
     half :func:`halves` [b] of [q; q'] (:func:`node_coefficients`); the first
     ``directions`` damping directions D_j of the system
-    (:attr:`groundres.system.System.damping_directions`) are included.
+    (:attr:`groundres.model.system.System.damping_directions`) are included.
     """
     x = _harmonics(system).solve(psi, sign=-1.0)
     return x[..., : (5 + directions) * system.size]
@@ -245,9 +245,9 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
 
     With ``damping`` (per speed along the system's damping directions,
     :func:`per_speed`) the system is a split one
-    (:meth:`groundres.system.System.split_damping`).
+    (:meth:`groundres.model.system.System.split_damping`).
     """
-    from .modal import batched  # (threads for a long batch)
+    from ..modal import batched  # (threads for a long batch)
 
     speeds = np.asarray(speeds, dtype=float)
     damping = per_speed(damping, len(speeds))

@@ -1,4 +1,4 @@
-"""Compiled propagation of transition matrices: the fast path of :mod:`groundres.transition`.
+"""Compiled propagation of transition matrices: the fast path of :mod:`groundres.solve.floquet.transition`.
 
 The azimuth-domain equations y' = A(psi) y with A = [0 I; F(psi)] are
 integrated for the transition matrix itself, one speed after another, with
@@ -6,7 +6,7 @@ the twelve stages of the Dormand-Prince eighth-order method on a fixed grid
 of nodes. F at a node is a combination of a few blocks with per-speed
 coefficients (1, 1/Omega, 1/Omega^2 for the inertia, damping-and-Coriolis
 and spring terms; c/Omega for a damping c set per speed along a damping
-direction, :mod:`groundres.nodes`), so one grid of nodes serves every speed
+direction, :mod:`groundres.solve.floquet.coefficients`), so one grid of nodes serves every speed
 and every damping. Each stage costs one
 product of an n x 2n block with a 2n x 2n matrix; nothing is formed twice.
 
@@ -18,7 +18,7 @@ over the interval. No second integration is made.
 
 NumPy's per-call overhead dominates for matrices of 10-40 states, so the
 loops are compiled with numba, released from the GIL and run over batches of
-speeds on groundres' thread pool (:mod:`groundres.parallel`). Compiled code is
+speeds on groundres' thread pool (:mod:`groundres.solve.parallel`). Compiled code is
 cached by numba in ``$XDG_CACHE_HOME/groundres/numba`` (``~/.cache`` by
 default) only where no other account may write there (:func:`cache_folder`).
 Compiling takes several seconds, more than a whole run: the first use on a
@@ -38,9 +38,9 @@ import stat
 
 import numpy as np
 
+from ..parallel import CORES, map_threads
 from . import _dop853
-from .nodes import halves as block_halves
-from .parallel import CORES, map_threads
+from .coefficients import halves as block_halves
 
 #: Weights of the embedded fifth- and third-order error estimators of DOP853
 #: (the difference of the eighth-order weights and theirs), on the twelve stages.
@@ -86,7 +86,7 @@ def cache_folder() -> str | None:
 def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # pragma: no cover (compiled)
     """Transition matrices over equal parts of the interval, for each speed, and error estimates.
 
-    nodes : (steps, stages, n, B n) blocks X_b (:func:`groundres.nodes.node_blocks`);
+    nodes : (steps, stages, n, B n) blocks X_b (:func:`groundres.solve.floquet.coefficients.node_blocks`);
     coef : (n_s, B); halves : (B,) the half of [q; q'] block b multiplies;
     restart : each part from the identity (else from the start of the interval);
     out : (n_s, parts, m, m) written; err : (n_s,) written: the sum over the
@@ -206,7 +206,7 @@ def kernel(wait: bool = False):
     :func:`cache_folder` holds it), or compiled now with ``wait``. The first
     use does not wait for the compiler (several seconds): it starts it in a
     background process, which fills the cache for the runs that follow, and
-    the NumPy path serves meanwhile (:func:`groundres.transition.use_kernel`).
+    the NumPy path serves meanwhile (:func:`groundres.solve.floquet.transition.use_kernel`).
     Without a safe cache folder the kernel is compiled only with ``wait``.
     """
     global _KERNEL, _STARTED
@@ -242,7 +242,7 @@ def _warm(dispatcher, marker):
 
 
 def _compile_in_background(folder):
-    """Start ``python -m groundres.propagate`` (the installed package compiling its
+    """Start ``python -m groundres.solve.floquet.compiled`` (the installed package compiling its
     kernel into the cache) detached, unless one started recently is still at it."""
     import subprocess
     import sys
@@ -261,7 +261,7 @@ def _compile_in_background(folder):
         # (-P and the cache folder as working folder: no module is taken from wherever
         # the run was started; kept, and polled by kernel(), which reaps it)
         _BACKGROUND = subprocess.Popen(
-            [sys.executable, "-P", "-m", "groundres.propagate"],
+            [sys.executable, "-P", "-m", "groundres.solve.floquet.compiled"],
             cwd=folder,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
@@ -274,7 +274,8 @@ def _compile_in_background(folder):
 
 
 def compile_now():
-    """Compile the kernel into the cache and mark it ready (``python -m groundres.propagate``)."""
+    """Compile the kernel into the cache and mark it ready
+    (``python -m groundres.solve.floquet.compiled``)."""
     folder = cache_folder()
     if folder is None:
         return
@@ -298,13 +299,13 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     ----------
     nodes : ndarray (steps, stages, n, B n)
         The blocks of the node matrices at the stage nodes of every step
-        (:func:`groundres.nodes.node_blocks`).
+        (:func:`groundres.solve.floquet.coefficients.node_blocks`).
     coef : ndarray (n_s, B)
-        Their coefficients at each speed (:func:`groundres.nodes.node_coefficients`).
+        Their coefficients at each speed (:func:`groundres.solve.floquet.coefficients.node_coefficients`).
     h : float
         Step [rad].
     tableau : Tableau
-        :data:`groundres.transition.DOP8` (the estimators are DOP853's).
+        :data:`groundres.solve.floquet.transition.DOP8` (the estimators are DOP853's).
     parts : int
         Divides the step count.
     cumulative : bool

@@ -1,16 +1,16 @@
 """Periodic systems: Floquet exponents and the harmonics of periodic eigenvectors.
 
 The transition matrix over one period (or the shorter period of a symmetry)
-comes from :mod:`groundres.transition`. Its eigenvalues are the multipliers
+comes from :mod:`groundres.solve.floquet.transition`. Its eigenvalues are the multipliers
 rho; the exponents lambda = ln(rho)/T are unique up to multiples of the
 period's frequency. The periodic part p(t) = x(t) exp(-lambda t) of each
 Floquet solution is sampled over one revolution and written as harmonics in
 multiblade coordinates: the motion at Im(lambda) + m Omega seen from
 nonrotating axes (Peters, Lieb and Ahaus 2011, "Interpretation of Floquet
 eigenvalues and eigenvectors for periodic systems", JAHS 56, 032001), from
-which :mod:`groundres.identify` names the root and gives its frequency.
+which :mod:`groundres.modes.identify` names the root and gives its frequency.
 
-Symmetry (:mod:`groundres.symmetry`): where advancing the azimuth by
+Symmetry (:mod:`groundres.solve.floquet.symmetry`): where advancing the azimuth by
 Delta = 2 pi j / N hands each blade's role to blade k + j, only Delta is
 integrated; the exponents come from R = G^-1 Phi(Delta) and are unique up to
 multiples of (N/j) Omega.
@@ -21,7 +21,7 @@ the small multipliers to round-off. Where the multipliers of a speed span
 more than exp(LIFT_SPREAD) (as seen, or as the frozen system's real parts
 foretell: the multipliers themselves cannot show a spread beyond
 round-off), the period is cut into K parts and the multipliers come from
-the lifted matrix (:mod:`groundres.lifting`): over one part no mode grows
+the lifted matrix (:mod:`groundres.solve.floquet.lifting`): over one part no mode grows
 or decays by more than exp(LIFT_STEP). The samples over a revolution are as many as the
 fastest motion needs (twice its frequency over Omega plus the harmonics
 kept), so the harmonics do not alias at low speed. At Omega = 0 the
@@ -36,10 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...model.system import System
+from ..modal import state_matrix
 from .lifting import lifted_eig
-from .modal import state_matrix
 from .symmetry import Symmetry, symmetry  # noqa: F401  (Symmetry: the type of solve's symmetries, for callers)
-from .system import System
 from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for callers)
     BUTCHER6,
     DOP8,
@@ -230,7 +230,7 @@ def solve(
         H: harmonics -H..H around each root's dominant one are returned; 0 for
         exponents only.
     tolerance, scale, tableau
-        Accuracy of the transition matrices (:func:`groundres.transition.integrate`).
+        Accuracy of the transition matrices (:func:`groundres.solve.floquet.transition.integrate`).
     lift : bool
         Solve the lifted problem where the multipliers span many decades. Without
         it (only with ``harmonics`` = 0) the largest real part is still exact,
@@ -240,15 +240,15 @@ def solve(
         ``progress(done, total)`` in speeds, called as batches of speeds are done.
     damping : float or ndarray (n_s,) or (n_s, d), optional
         Damping along the system's d damping directions at each speed [in the
-        system's units] (:func:`groundres.nodes.per_speed`); ``system`` is then
-        a split one (:meth:`groundres.system.System.split_damping`): one set
+        system's units] (:func:`groundres.solve.floquet.coefficients.per_speed`); ``system`` is then
+        a split one (:meth:`groundres.model.system.System.split_damping`): one set
         of node matrices serves every damping.
     sym : Symmetry, optional
         The symmetry to use (that of the system with its dampers, where
         ``system`` is a split one, whose blades may look more alike).
     compiled : bool or None
         The compiled kernel, NumPy, or the kernel where it is ready
-        (:func:`groundres.transition.use_kernel`).
+        (:func:`groundres.solve.floquet.transition.use_kernel`).
     bounds : bool
         Also bound each exponent's real part from the integration's error
         (:attr:`FloquetSolution.real_upper`, ``real_lower``), for a scan at a loose
@@ -451,7 +451,7 @@ def monodromy(
     """Full-revolution transition matrix of x = [q; dq/dt], shape (n_s, 2n, 2n).
 
     Built from the reduced period with the symmetry when there is one;
-    ``compiled`` as in :func:`groundres.transition.integrate`.
+    ``compiled`` as in :func:`groundres.solve.floquet.transition.integrate`.
     """
     speeds = np.asarray(speeds, dtype=float)
     sym = symmetry(system)

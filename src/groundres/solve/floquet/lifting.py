@@ -8,7 +8,7 @@ multipliers rho are the K-th powers of the eigenvalues z of the block-cyclic
 problem of a periodic matrix product as in Bojanczyk, Golub and Van Dooren
 1992, "The periodic Schur decomposition", Proc. SPIE 1770, solved by
 reduction to one matrix). Its eigenvectors give the periodic part of each
-Floquet solution at every part's start directly (:mod:`groundres.floquet`).
+Floquet solution at every part's start directly (:mod:`groundres.solve.floquet.exponents`).
 """
 
 from __future__ import annotations

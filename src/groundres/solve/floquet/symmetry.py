@@ -5,7 +5,7 @@ multi-bladed rotorcraft", JAHS 39(4)): if advancing the azimuth by
 Delta = 2 pi j / N maps the equations onto themselves with blade k + j taking
 the place of blade k, then the transition matrix over a revolution is
 (G^-1 Phi(Delta))^(N/j) with G that permutation of coordinates, and only
-Delta needs integrating (:mod:`groundres.floquet`).
+Delta needs integrating (:mod:`groundres.solve.floquet.exponents`).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .system import System
+from ...model.system import System
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ def symmetry(system: System) -> Symmetry:
     blades of functions of each blade's own azimuth (and damper rods constant in
     the blades' coordinates), so advancing the azimuth by 2 pi j / N only hands
     each blade's role to blade k + j: the equations repeat when the blades and
-    their rods do (:meth:`groundres.params.Rotor.repeats`), whatever the body.
+    their rods do (:meth:`groundres.model.params.Rotor.repeats`), whatever the body.
     """
     rotor = system.rotor
     n = rotor.n_blades

@@ -3,7 +3,7 @@
 The blade-coordinate equations are integrated in the azimuth psi = Omega t as
 q'' = (F_a(psi) + F_b(psi) / Omega + F_c(psi) / Omega^2) [q; q'], with the
 F matrices evaluated exactly at the nodes of a fixed azimuth grid, once for
-all speeds and every damping set along the damping directions (:mod:`groundres.nodes`).
+all speeds and every damping set along the damping directions (:mod:`groundres.solve.floquet.coefficients`).
 
 The integrator is the eighth-order Runge-Kutta method of Dormand and Prince
 (the twelve stages of DOP853) on a fixed grid, chosen on evidence: for
@@ -11,7 +11,7 @@ multipliers to 1e-10 it needs three to five times fewer stage evaluations
 than a sixth-order method (Butcher 1964, kept as BUTCHER6 for comparison).
 Two paths compute the same matrices:
 
-* the compiled kernel (:mod:`groundres.propagate`, wherever it has been
+* the compiled kernel (:mod:`groundres.solve.floquet.compiled`, wherever it has been
   compiled), which integrates each speed's transition matrix step by step and
   estimates its error from the method's embedded estimators, so that a speed
   whose estimate is too large is integrated once more with the step count
@@ -32,7 +32,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .nodes import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrices: for callers)
+from ...model.system import System
+from .coefficients import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrices: for callers)
     GRID_CACHE_SIZE,
     directions_of,
     frozen_rates,
@@ -44,9 +45,8 @@ from .nodes import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrice
     per_speed,
     rates_per_radian,
 )
-from .pairwise import ordered_product, plan_runs, transition_pairwise
-from .system import System
 from .tableau import BUTCHER6, DOP8, Tableau  # noqa: F401  (for callers)
+from .vectorised import ordered_product, plan_runs, transition_pairwise
 
 #: First guess of step * (fastest rate per radian + HARMONIC_RATE).
 STEP_SCALE = 1.0
@@ -110,7 +110,7 @@ def transition(
     ----------
     system : System
         With ``damping``, a split system carrying damping directions
-        (:meth:`groundres.system.System.split_damping`).
+        (:meth:`groundres.model.system.System.split_damping`).
     speeds : ndarray (n_s,)
         Rotor speeds [rad/s] integrated together.
     angle : float
@@ -122,7 +122,7 @@ def transition(
     tableau : Tableau
     damping : ndarray (n_s,) or (n_s, d), optional
         Damping along the system's damping directions at each speed [in the
-        system's units] (:func:`groundres.nodes.per_speed`).
+        system's units] (:func:`groundres.solve.floquet.coefficients.per_speed`).
     compiled : bool or None
         The compiled kernel (True; DOP8 only), NumPy with every step's
         propagator formed at once (False), or the kernel where it is ready
@@ -145,11 +145,11 @@ def transition(
 
 def use_kernel(tableau, compiled: bool | None = None) -> bool:
     """Whether the compiled kernel integrates: DOP8, and ``compiled``, or (None) where the
-    kernel is ready (:func:`groundres.propagate.kernel`; until then, the first run on a
+    kernel is ready (:func:`groundres.solve.floquet.compiled.kernel`; until then, the first run on a
     machine, NumPy serves while it compiles in the background)."""
     if tableau is not DOP8 or compiled is False:
         return False
-    from .propagate import kernel
+    from .compiled import kernel
 
     return compiled is True or kernel() is not None
 
@@ -175,9 +175,9 @@ def transition_estimated(
     parts : ndarray (blocks, n_s, 2n, 2n)
     error : ndarray (n_s,)
         Sum of the steps' estimated errors, relative to ``max(1, |Phi|)``
-        (:func:`groundres.propagate.propagate`).
+        (:func:`groundres.solve.floquet.compiled.propagate`).
     """
-    from .propagate import propagate  # (numba is imported only where periodic analyses run)
+    from .compiled import propagate  # (numba is imported only where periodic analyses run)
 
     speeds = np.asarray(speeds, dtype=float)
     directions = directions_of(damping)
@@ -253,7 +253,7 @@ def _estimate(run, sel, count, fine_phi, size, previous, ladder_, p):
 
 
 #: Sum of the embedded estimates accepted, per unit of the tolerance asked: the
-#: estimate (:mod:`groundres.propagate`) overstated the actual error of the
+#: estimate (:mod:`groundres.solve.floquet.compiled`) overstated the actual error of the
 #: transition matrix 7 to 5000 times on the shipped and benchmark cases and on
 #: dissimilar blades with flap on a pitching and rolling body, so an estimate
 #: of 5 x the tolerance keeps the actual error below it (tests/test_propagate.py

@@ -3,7 +3,7 @@
 The equations are linear, so each step's propagator is independent of the
 others: for all steps and speeds of a batch the stages are formed together
 from the identity, and the propagators are multiplied by pairwise reduction.
-It serves while the compiled kernel (:mod:`groundres.propagate`) is not ready,
+It serves while the compiled kernel (:mod:`groundres.solve.floquet.compiled`) is not ready,
 with any tableau, and as the reference that kernel is tested against.
 """
 
@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .nodes import directions_of, expand, grid_nodes, node_coefficients
-from .parallel import CORES, map_threads
-from .system import System
+from ...model.system import System
+from ..parallel import CORES, map_threads
+from .coefficients import directions_of, expand, grid_nodes, node_coefficients
 
 #: Stage values formed at once by one task (about 25 MB).
 STAGE_BUDGET = 3_000_000
@@ -83,7 +83,7 @@ def plan_runs(steps: int, blocks: int, room: int) -> list:
 
 
 def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, damping):
-    """:func:`groundres.transition.transition` by NumPy: every step's propagator formed
+    """:func:`groundres.solve.floquet.transition.transition` by NumPy: every step's propagator formed
     at once, then their product.
 
     The work is split into tasks (threads) of a few speeds and a run of steps

@@ -1,0 +1,1 @@
+"""What each root is: its label, its frequency in both frames, and what motion it contains."""
