@@ -14,7 +14,7 @@ from click.testing import CliRunner  # noqa: E402
 
 import groundres  # noqa: E402
 from groundres.cli import main  # noqa: E402
-from groundres.model.schema import shipped_cases  # noqa: E402
+from groundres.model.casefile import shipped_cases  # noqa: E402
 from groundres.results.comparison import pair_ranges  # noqa: E402
 
 #: The seed paper's Figure 3 case (two unstable ranges) on 40 speeds instead of 400: fast.

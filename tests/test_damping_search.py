@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from groundres import analyze
-from groundres.assess import resolution
 from groundres.assess.stability import growth_threshold
 from groundres.model.schema import parse_case
+from groundres.model.system import System
 from groundres.solve.floquet import exponents
 
 
@@ -33,8 +33,8 @@ def case(name, **body_scale):
 def brute_force_excess(c, lag_damping):
     """Largest real part minus the threshold over the sweep by plain Floquet exponents of
     the system rebuilt with that lag damping: 400 uniform speeds, then 200 around the worst."""
-    system, unit = resolution.system_in_mass_unit(c.rotor, c.body)
-    system = system.with_lag_damping(lag_damping / unit)
+    system = System.in_mass_unit(c.rotor, c.body)
+    system = system.with_lag_damping(system.mass_unit.from_si(lag_damping))
     lo, hi = c.sweep.speeds[0], c.sweep.speeds[-1]
 
     def excess(w):
@@ -79,15 +79,16 @@ def test_a_rough_scan_bounds_the_growth_at_full_tolerance(name):
     """The damping search's scans look at SCAN_TOLERANCE; the bound they carry must hold
     the largest real part at the full tolerance (which decides), and be honest about
     the rough value's own error."""
-    from groundres.analysis import _Floquet
+    from groundres.assess.stability import growth_of, rough_growth_of
+    from groundres.solve.solvers import Floquet
 
     c = case(name)
-    system, unit = resolution.system_in_mass_unit(c.rotor, c.body)
-    solver = _Floquet(system, unit)
+    system = System.in_mass_unit(c.rotor, c.body)
+    solver = Floquet(system)
     w = np.linspace(c.sweep.speeds[1], c.sweep.speeds[-1], 24)
     for neutral in (True, False):
-        value, lower, upper = solver.rough_growth(w, neutral)
-        exact = solver.growth(w, neutral)
+        value, lower, upper = rough_growth_of(solver)(w, neutral)
+        exact = growth_of(solver)(w, neutral)
         assert np.all((lower <= exact) & (exact <= upper))
         assert np.all(np.abs(value - exact) <= np.minimum(upper - value, value - lower))
     rough = exponents.solve(system, w, harmonics=0, lift=False, tolerance=exponents.SCAN_TOLERANCE)
@@ -124,10 +125,10 @@ def test_peak_watch_with_a_rough_look_reaches_the_same_verdicts():
         return fun(p, w) + err, fun(p, w) + err - 2e-4, fun(p, w) + err + 2e-4
 
     grid = np.linspace(0.5, 8.0, 16)
-    plain_watch, rough_watch = PeakWatch(fun, grid, "floquet"), PeakWatch(fun, grid, "floquet", rough=rough)
+    plain_watch, rough_watch = PeakWatch(fun, grid, True), PeakWatch(fun, grid, True, rough=rough)
     for p in np.linspace(0.0, 4.0, 41):
-        plain = PeakWatch(fun, grid, "floquet").full(p)
-        looked = PeakWatch(fun, grid, "floquet", rough=rough).full(p)
+        plain = PeakWatch(fun, grid, True).full(p)
+        looked = PeakWatch(fun, grid, True, rough=rough).full(p)
         assert (plain > 0) == (looked > 0), p
         # and the watched peaks of a scan at the previous parameter
         assert (plain_watch.watched(p) > 0) == (rough_watch.watched(p) > 0), p

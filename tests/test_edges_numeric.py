@@ -21,13 +21,14 @@ import numpy as np
 import pytest
 
 from groundres import ModelRangeError, analyze
-from groundres.assess import resolution
 from groundres.assess.stability import growth_threshold
-from groundres.model.schema import parse_case, shipped_cases
+from groundres.errors import SpeedRangeError
+from groundres.model.casefile import shipped_cases
+from groundres.model.schema import parse_case
 from groundres.model.system import System
 from groundres.modes import identify
 from groundres.solve import modal
-from groundres.solve.floquet.transition import SpeedRangeError
+from groundres.solve.floquet import cost
 
 MASS_LIKE_ROTOR = ("blade_mass", "blade_static_moment", "blade_inertia", "lag_stiffness", "lag_damping")
 MASS_LIKE_BODY = ("mass_x", "mass_y", "stiffness_x", "stiffness_y", "damping_x", "damping_y")
@@ -393,8 +394,8 @@ def test_range_open_at_the_lowest_affordable_floquet_speed_says_so(monkeypatch):
 
     case = parse_case(tomllib.loads(LOW_START))
     system = System(case.rotor, case.body)
-    work, _ = resolution.floquet_work_per_speed(system, np.array([0.5]), lift=False)
-    monkeypatch.setattr(resolution, "REST_BUDGET", float(work[0]) * 1.01)
+    work, _ = cost.floquet_work_per_speed(system, np.array([0.5]), lift=False)
+    monkeypatch.setattr(cost, "REST_BUDGET", float(work[0]) * 1.01)
     flq = analyze(case, method="floquet")
     first = flq.stability.unstable_ranges[0][0]
     assert flq.stability.open_below == first and 0.4 <= first <= 1.0
@@ -453,7 +454,7 @@ def test_floquet_refusal_speaks_the_case_unit_and_fits_its_advice():
     message = str(err.value)
     assert "0.03 Hz (0.1885 rad/s)" in message and "method = 'auto'" not in message
     with pytest.raises(ModelRangeError, match="time-invariant form: method = 'auto'"):
-        resolution.check_floquet_work(3e6, np.ones(2), np.ones(2), time_invariant=True)
+        cost.check_floquet_work(3e6, np.ones(2), np.ones(2), time_invariant=True)
 
 
 def test_smallest_damping_ratio_does_not_depend_on_the_sweep_spacing():

@@ -6,10 +6,10 @@ import pytest
 
 from conftest import make_case
 from groundres import analyze
+from groundres.errors import SpeedRangeError
 from groundres.model.system import System
 from groundres.solve import modal
 from groundres.solve.floquet import exponents
-from groundres.solve.floquet.transition import SpeedRangeError
 
 ISOTROPIC = dict(mass_y=8026.6, damping_y=51078.7)
 

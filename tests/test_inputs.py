@@ -16,8 +16,9 @@ from click.testing import CliRunner
 from conftest import HAMMOND_TOML
 from groundres import Blade, Body, Case, Rotor, Sweep
 from groundres.cli import main
-from groundres.model.params import MAX_BLADES, MAX_POINTS, ParameterError, shown
-from groundres.model.schema import SCHEMA, CaseError, load_case
+from groundres.errors import CaseError, ParameterError, shown
+from groundres.model.params import MAX_BLADES, MAX_POINTS
+from groundres.model.schema import SCHEMA, load_case
 from groundres.model.system import System
 
 #: The Hammond case with blade 2's damper given on its own and a reference speed.
@@ -413,7 +414,7 @@ def test_a_simulation_that_cannot_take_large_steps_is_stopped():
     """soft-inplane-pitch-roll at 1e50 rpm ran for hours inside the integrator:
     the steps are counted and a run that needs far more than estimated stops
     with a model-range error (exit 2 on the command line)."""
-    from groundres.assess.resolution import ModelRangeError
+    from groundres.errors import ModelRangeError
     from groundres.solve import simulate
 
     case = load_case("hammond-1974")
@@ -454,7 +455,7 @@ def test_option_mistakes_are_one_line(args, words):
 
 def test_the_largest_number_is_written_as_a_float(tmp_path):
     """|value| <= 1.798e+308 was the rounded largest float, itself no float."""
-    from groundres.model.schema import LARGEST_NUMBER, LARGEST_NUMBER_TEXT
+    from groundres.model.casefile import LARGEST_NUMBER, LARGEST_NUMBER_TEXT
 
     assert float(LARGEST_NUMBER_TEXT) <= LARGEST_NUMBER
     result, elapsed = run("run", write(tmp_path, edit("blade_mass = 94.9", "blade_mass = nan")))

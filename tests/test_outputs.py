@@ -17,7 +17,7 @@ from click.testing import CliRunner
 import groundres
 from groundres import analyze, load_case
 from groundres.cli import main
-from groundres.model.schema import shipped_cases
+from groundres.model.casefile import shipped_cases
 from groundres.solve.floquet import exponents
 
 # A quick case (eigen-analysis, 20 speeds); CRLF line ends, a comment and a

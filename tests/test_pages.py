@@ -254,7 +254,7 @@ def test_smeared_case_averages_the_dampers():
 
 
 def test_every_figure_has_a_shipped_case_and_phasor_speeds_in_its_unit():
-    from groundres.model.schema import shipped_cases
+    from groundres.model.casefile import shipped_cases
 
     assert gallery.NUMBERS == tuple(range(3, 14))
     for f in gallery.FIGURES:

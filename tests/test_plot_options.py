@@ -16,7 +16,7 @@ import groundres  # noqa: E402
 from conftest import HAMMOND_TOML  # noqa: E402
 from groundres.cli import main  # noqa: E402
 from groundres.cli.plotoptions import SPEED_AXES  # noqa: E402
-from groundres.model.schema import shipped_cases  # noqa: E402
+from groundres.model.casefile import shipped_cases  # noqa: E402
 from groundres.plotting import axes, coleman  # noqa: E402
 from groundres.plotting.titles import figure_title  # noqa: E402
 

@@ -37,10 +37,10 @@ from hypothesis import strategies as st
 
 from groundres.assess.stability import growth_threshold
 from groundres.cli import main
-from groundres.model.params import SPEED_UNITS
+from groundres.model.units import SPEED_UNITS
 
 DOFS = ("x", "y", "pitch", "roll")
-#: How a Floquet sweep beyond the work limit is refused (groundres.assess.resolution.check_floquet_work).
+#: How a Floquet sweep beyond the work limit is refused (groundres.solve.floquet.cost.check_floquet_work).
 REFUSAL = "Floquet analysis of this sweep needs an estimated"
 #: The generated cases refused so far.
 REFUSED = []

@@ -14,9 +14,10 @@ from click.testing import CliRunner
 from conftest import HAMMOND_TOML
 from groundres import analyze
 from groundres.cli import main
+from groundres.errors import StudyError
 from groundres.model.schema import parse_case
 from groundres.studies import run, store
-from groundres.studies.grid import StudyError, make_grid, numeric_keys, parse_values
+from groundres.studies.grid import make_grid, numeric_keys, parse_values
 from groundres.studies.study import study
 
 # The Hammond rotor on its hub, a short sweep (Floquet where a damper fails).

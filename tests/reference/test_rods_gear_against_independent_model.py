@@ -40,7 +40,7 @@ import numpy as np
 import pytest
 
 from groundres import analyze, load_case
-from groundres.model.schema import shipped_cases
+from groundres.model.casefile import shipped_cases
 
 RANGE_RTOL = 2e-3  # acceptance: each range end within 0.2 % of the speed
 REAL_ATOL = 1e-6  # [1/s]

@@ -18,9 +18,11 @@ import math
 
 import numpy as np
 
+from ..solve.floquet import cost, transition
 from . import resolution, scan, stability
 
-#: Relative accuracy of the exact minimum lag damping, by kind of analysis.
+#: Relative accuracy of the exact minimum lag damping, by method option
+#: (:attr:`groundres.methods.Method.option`).
 RTOL = {"eigen": 1e-4, "floquet": 1e-3}
 #: Work of a Floquet damping search beside its full scans of the grid (about
 #: four), in analyses of one speed: the bisection's refinements of the worst
@@ -28,23 +30,26 @@ RTOL = {"eigen": 1e-4, "floquet": 1e-3}
 _SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
 
 
-def check_work(solver, speeds, probe, search, speed_unit, time_invariant):
-    """Refuse a Floquet analysis whose estimated work is beyond the limit
-    (:mod:`groundres.assess.resolution`).
+def check_work(solver, speeds, probe, deutsch, search: bool, speed_unit, time_invariant):
+    """Refuse a Floquet analysis that cannot run (a speed too near rest,
+    :func:`groundres.solve.floquet.transition.check_slowest`) or whose estimated work is
+    beyond the limit (:mod:`groundres.solve.floquet.cost`).
 
-    Sweep (with its lifted problems), the internal grid, the damping search
-    over ``search`` (four full scans and its refinements, at the grid's mean
-    cost per speed; None where there is no search) and the refinements of
-    the worst values.
+    The work counts the sweep (with its lifted problems), the internal grid
+    ``probe``, the damping search where ``search`` (four full scans of its
+    grid, :func:`search_grid`, and its refinements, at the grid's mean cost
+    per speed) and the refinements of the worst values.
     """
+    transition.check_slowest(speeds)
     system = solver.system
-    work, steps = resolution.floquet_work(system, speeds)
-    work += resolution.floquet_work(system, probe, lift=False)[0]
-    if search is not None:  # (None: no damping search)
-        scans, _ = resolution.floquet_work(system, search, lift=False)
-        typical = scans / max(len(search), 1)
+    work, steps = cost.floquet_work(system, speeds)
+    work += cost.floquet_work(system, probe, lift=False)[0]
+    if search:
+        grid = search_grid(speeds, probe, True, lowest_search_speed(deutsch), search_windows(deutsch))
+        scans, _ = cost.floquet_work(system, grid, lift=False)
+        typical = scans / max(len(grid), 1)
         work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
-    resolution.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
+    cost.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
 
 
 def lowest_search_speed(deutsch):
@@ -138,19 +143,19 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         below the search's lowest speed, ("cap", damping in the same unit)
         where no damping up to the largest tried makes it stable.
     """
-    periodic = solver.kind == "floquet"
+    periodic = solver.method.periodic
     low = lowest_search_speed(deutsch)
     if any(b < low for _, b in assessed.unstable_ranges):
         return None, ("below", low)
-    # (computed in the equations' mass unit, resolution.mass_unit: SI values near the
-    # largest float would overflow in the products below)
+    # (computed in the equations' mass unit, groundres.model.units.MassUnit: SI values near
+    # the largest float would overflow in the products below)
     unit = solver.unit
     system = solver.system
     blades = case.rotor.blades
     installed = max(system.damper_values()) if any(system.damper_values()) else 0.0
     # (a rod's N s/m act on the blades through its lever: scales in the searched damper's units)
     lever = max(system.damper_lever(), 1e-300)
-    inertia = max(b.blade_inertia for b in blades) / unit / lever
+    inertia = unit.from_si(max(b.blade_inertia for b in blades)) / lever
     # the largest lag damping the model resolves (resolution.check_resolution), and a
     # cap beyond which more damping is no design answer (periodic analyses stop
     # earlier: a strong damper makes the equations stiff for the explicit integrator)
@@ -186,40 +191,42 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     def excess(lag_damping, w):
         w = np.atleast_1d(np.asarray(w, dtype=float))
         # (neutral roots never grow: left out, they cannot hide the peak that decides)
-        return trial(lag_damping).growth(w, neutral=False) - stability.growth_threshold(w)
+        return stability.growth_of(trial(lag_damping))(w, neutral=False) - stability.growth_threshold(w)
 
     def rough(lag_damping, w):  # (scans look with it; excess decides)
         w = np.atleast_1d(np.asarray(w, dtype=float))
         threshold = stability.growth_threshold(w)
-        return tuple(v - threshold for v in trial(lag_damping).rough_growth(w, neutral=False))
+        return tuple(v - threshold for v in stability.rough_growth_of(trial(lag_damping))(w, neutral=False))
 
     value = minimum_lag_damping(
         excess,
         search_grid(speeds, probe, periodic, low, search_windows(deutsch, assessed.unstable_ranges)),
         guess,
         cap=cap,
-        rtol=RTOL[solver.kind],
+        rtol=RTOL[solver.method.option],
         anchor=anchor,
         seeds=assessed.peak_speeds,
-        kind=solver.kind,
-        rough=None if solver.rough_growth is None else rough,
+        periodic=periodic,
+        rough=None if solver.rough_real_parts is None else rough,
     )
-    with np.errstate(over="ignore"):
-        return (None, ("cap", cap * unit)) if value is None else (value * unit, None)
+    return (None, ("cap", unit.to_si(cap))) if value is None else (unit.to_si(value), None)
 
 
 def _in_searched(entry, system, unit) -> float:
     """A Deutsch requirement [N m s/rad, SI] as a value of the searched damper in the
     equations' mass unit: itself for blade dampers; for rods, what the rods must add to
     the blades' own dampers, per unit of the entry's rod lever."""
+    required = unit.from_si(entry.required_lag_damping)
     if system.searched == "blades":
-        return entry.required_lag_damping / unit
+        return required
     own = min((b.lag_damping for b in system.rotor.blades if b.lag_damping > 0), default=0.0)
     lever = entry.rod_lever or 1.0
-    return (entry.required_lag_damping / unit - own) / lever
+    return (required - own) / lever
 
 
-def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), kind="eigen", rough=None):
+def minimum_lag_damping(
+    excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=(), periodic=False, rough=None
+):
     """Smallest lag damping that makes the sweep stable, by bisection.
 
     Parameters
@@ -243,8 +250,8 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
         sweep is stable.
     seeds : iterable of float
         Speeds where the sweep grows (the peaks of its ranges), watched first.
-    kind : "eigen" or "floquet"
-        A Floquet scan is costly: the bisection trusts the watched peaks within
+    periodic : bool
+        A periodic (Floquet) scan is costly: the bisection trusts the watched peaks within
         a factor 2 of the damping they were scanned at, and a full scan
         confirms the result; if it finds another peak, the bisection goes on
         between there and the smallest damping shown stable (the last of four
@@ -259,8 +266,8 @@ def minimum_lag_damping(excess, grid, start, cap, rtol=1e-4, anchor=None, seeds=
     float or None
         0.0 if stable without lag damping; None if even ``cap`` is unstable.
     """
-    watch = scan.PeakWatch(excess, grid, kind, seeds, rough=rough)
-    eager = kind == "eigen"
+    watch = scan.PeakWatch(excess, grid, periodic, seeds, rough=rough)
+    eager = not periodic
     proven = [None]  # the smallest damping a full scan (or the sweep) has shown stable
 
     def stable(c, confirm):

@@ -36,7 +36,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..model.params import Body, Rotor
+from ..model.body import Body
+from ..model.params import Rotor
 
 
 @dataclass(frozen=True)
@@ -337,15 +338,13 @@ def _rigid_modes(rotor: Rotor, body: Body) -> list:
     return out
 
 
-def deutsch_in_si(system, unit: float) -> list[DeutschEntry]:
-    """Deutsch entries of equations computed in a mass unit [kg]
-    (:func:`groundres.assess.resolution.mass_unit`), dampers given back in SI."""
+def deutsch_in_si(system) -> list[DeutschEntry]:
+    """Deutsch entries of equations computed in a mass unit (``system.mass_unit``,
+    :class:`groundres.model.units.MassUnit`), dampers given back in SI."""
     entries = deutsch(system.rotor, system.body)
-    if unit == 1.0:
+    if system.mass_unit.si:
         return entries
-
-    def si(x):
-        return None if x is None else x * unit
+    si = system.mass_unit.to_si
 
     return [
         replace(

@@ -17,17 +17,17 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-#: Internal grid (uniform points, points around each tuning speed) per kind of
-#: analysis; a Floquet sweep of n points adds max(0, 48 - n/2) uniform ones (a
+#: Internal grid (uniform points, points around each tuning speed) of an eigen-analysis
+#: (False) and a periodic one (True); a Floquet sweep of n points adds max(0, 48 - n/2) uniform ones (a
 #: sweep that fine needs no more) and 24 around each tuning speed (8 beyond 100 points).
-GRID = {"eigen": (1000, 200), "floquet": (48, 24)}
+GRID = {False: (1000, 200), True: (48, 24)}
 #: Tuning clusters span [t / CLUSTER_WIDTH, t * CLUSTER_WIDTH], geometrically spaced.
 CLUSTER_WIDTH = 1.5
-#: Relative accuracy of a refined peak's speed.
-PEAK_XTOL = {"eigen": 1e-7, "floquet": 1e-4}
+#: Relative accuracy of a refined peak's speed (eigen, periodic).
+PEAK_XTOL = {False: 1e-7, True: 1e-4}
 
 
-def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
+def probe_speeds(speeds, tuning=(), periodic: bool = False) -> np.ndarray:
     """Internal speeds [rad/s] over the sweep, beside (not including) the sweep's own.
 
     Parameters
@@ -36,8 +36,9 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
         The sweep, increasing [rad/s].
     tuning : iterable of float
         Tuning speeds [rad/s]; those inside the sweep get a dense cluster.
-    kind : "eigen" or "floquet"
-        Sets the grid size (:data:`GRID`): a Floquet speed costs an integration.
+    periodic : bool
+        A periodic (Floquet) analysis, whose every speed costs an integration:
+        sets the grid size (:data:`GRID`).
 
     For a Floquet analysis no probe lies below half the first speed that
     turns (a periodic analysis just above rest is the costliest of the sweep);
@@ -46,8 +47,8 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
     """
     speeds = np.asarray(speeds, dtype=float)
     lo, hi = speeds[0], speeds[-1]
-    uniform, cluster = GRID[kind]
-    if kind == "floquet":  # every Floquet speed is an integration: what the sweep lacks
+    uniform, cluster = GRID[periodic]
+    if periodic:  # every Floquet speed is an integration: what the sweep lacks
         uniform, cluster = max(0, uniform - len(speeds) // 2), (cluster if len(speeds) < 100 else 8)
     parts = [np.linspace(lo, hi, uniform)] if uniform > 1 else []
     for t in tuning:
@@ -56,7 +57,7 @@ def probe_speeds(speeds, tuning=(), kind: str = "eigen") -> np.ndarray:
             parts.append(np.geomspace(max(a, 1e-300), b, cluster))
     probe = np.unique(np.concatenate(parts)) if parts else np.zeros(0)
     moving = speeds[speeds > 0]
-    if kind == "floquet" and len(moving):
+    if periodic and len(moving):
         probe = probe[probe >= 0.5 * moving.min()]
     probe = probe[(probe > lo) & (probe < hi)]
     return np.setdiff1d(probe, speeds)
@@ -196,10 +197,10 @@ class PeakWatch:
     lower bound is positive is positive).
     """
 
-    def __init__(self, fun, grid, kind, seeds=(), peaks=None, rough=None):
-        self.fun, self.grid, self.kind, self.rough = fun, np.asarray(grid, float), kind, rough
-        self.xtol = PEAK_XTOL[kind]
-        self.peaks = peaks or (8 if kind == "eigen" else 3)
+    def __init__(self, fun, grid, periodic, seeds=(), peaks=None, rough=None):
+        self.fun, self.grid, self.periodic, self.rough = fun, np.asarray(grid, float), periodic, rough
+        self.xtol = PEAK_XTOL[periodic]
+        self.peaks = peaks or (3 if periodic else 8)
         self.brackets = [self._around(w) for w in seeds]
         self.scanned = None  # the parameter of the last full scan
 

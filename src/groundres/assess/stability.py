@@ -10,7 +10,7 @@ on an internal grid (:mod:`groundres.assess.scan`), with the local maxima refine
 roots meet (undamped coalescences); their ends come from root finding, not
 from the grid spacing. A range open at the first speed that turns is followed
 down towards rest (:func:`_start_above_rest`), a periodic analysis only as
-far as its cost allows (:func:`groundres.assess.resolution.lowest_periodic_speed`).
+far as its cost allows (:func:`groundres.solve.floquet.cost.lowest_periodic_speed`).
 """
 
 from __future__ import annotations
@@ -20,8 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from ..modes.identify import damping_ratio
+from ..solve.floquet.cost import REST_HALVINGS
 from . import scan
-from .resolution import REST_HALVINGS
 
 GROWTH_PER_RADIAN = 1e-6
 #: [1/s] added to the threshold: at rest the neutral roots sit at round-off.
@@ -63,6 +64,58 @@ def largest_real_part(real, speeds, neutral: bool = True, bound=None) -> np.ndar
     return np.where(np.isfinite(masked) | (masked > 0), masked, 0.0)
 
 
+def growth_of(solver):
+    """``growth(speeds, neutral=True)``: the largest real part [1/s] of ``solver``'s roots at
+    any speeds (:meth:`groundres.solve.solvers.Solver.real_parts`, :func:`largest_real_part`)."""
+
+    def growth(speeds, neutral=True):
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        return largest_real_part(solver.real_parts(speeds), speeds, neutral)
+
+    return growth
+
+
+def rough_growth_of(solver):
+    """``rough_growth(speeds, neutral=True) -> (value, lower, upper)``: :func:`growth_of` at the
+    solver's looser scan accuracy, with bounds of the exact value; None where the solver
+    has no cheaper scan (:attr:`groundres.solve.solvers.Solver.rough_real_parts`)."""
+    if solver.rough_real_parts is None:
+        return None
+
+    def rough_growth(speeds, neutral=True):
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        real, lower, upper = solver.rough_real_parts(speeds)
+        return tuple(largest_real_part(real, speeds, neutral, bound) for bound in (None, lower, upper))
+
+    return rough_growth
+
+
+def smallest_damping_ratio_at(roots, modes, speeds, w: float, unique: bool) -> float:
+    """Smallest damping ratio [-] at speed ``w`` [rad/s] over the roots that continue the modes.
+
+    ``roots`` are every root at ``w``; ``modes`` the sweep's
+    (:class:`groundres.modes.identify.Modes`) at ``speeds``. Where frequencies
+    are ``unique`` (a multiblade eigen-analysis) every root counts; otherwise,
+    for each mode, the root nearest its eigenvalue interpolated from the sweep,
+    with its frequency shifted by the multiple of Omega that brings it nearest.
+    """
+    roots = np.asarray(roots)
+    if unique:
+        cand = roots.real + 1j * np.abs(roots.imag)
+        return float(damping_ratio(cand, scale=np.abs(cand).max()).min())
+    lam = modes.eigenvalue  # (n_s, n_m)
+    target = np.array(
+        [
+            complex(np.interp(w, speeds, lam[:, k].real), np.interp(w, speeds, lam[:, k].imag))
+            for k in range(lam.shape[1])
+        ]
+    )
+    m = np.rint((target.imag[:, None] - roots.imag[None, :]) / w)
+    cand = roots.real[None, :] + 1j * np.abs(roots.imag[None, :] + m * w)
+    best = cand[np.arange(len(target)), np.argmin(np.abs(cand - target[:, None]), axis=1)]
+    return float(damping_ratio(best, scale=np.abs(cand).max()).min())
+
+
 @dataclass(frozen=True)
 class Stability:
     """Stability of a sweep.
@@ -80,7 +133,7 @@ class Stability:
     open_below : float or None
         Where the first range begins at the lowest speed the analysis reaches
         above rest (a periodic analysis costs more the slower the rotor: see
-        :func:`groundres.assess.resolution.lowest_periodic_speed`), that speed [rad/s]:
+        :func:`groundres.solve.floquet.cost.lowest_periodic_speed`), that speed [rad/s]:
         the range may begin lower. None otherwise.
     """
 
@@ -118,7 +171,7 @@ def _maximise(fun, lo: float, hi: float, xtol: float) -> tuple[float, float]:
     return float(-res.fun), float(res.x)
 
 
-def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, floor=0.0, rough=None):
+def find_ranges(grid, values, excess, periodic=False, peaks=8, closeness=None, floor=0.0, rough=None):
     """Intervals where ``excess`` (largest real part minus the growth threshold) is positive.
 
     Parameters
@@ -130,8 +183,9 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
         ``excess`` on the grid [1/s].
     excess : callable
         ``excess(speeds) -> values`` at any speeds (arrays).
-    kind : "eigen" or "floquet"
-        Accuracy of the refined peaks (:data:`groundres.assess.scan.PEAK_XTOL`).
+    periodic : bool
+        A periodic (Floquet) analysis: sets the accuracy of the refined peaks
+        (:data:`groundres.assess.scan.PEAK_XTOL`).
     peaks : int
         Local maxima of the grid values refined to find ranges narrower than
         the grid (the largest first).
@@ -185,7 +239,9 @@ def find_ranges(grid, values, excess, kind="eigen", peaks=8, closeness=None, flo
     spans = [(lo, hi) for lo, hi in spans if hi > lo]
     # (refined together: one call of ``excess`` per round for all of them)
     look = None if rough is None else (lambda w: rough(w)[0])
-    for (lo, hi), (top, at) in zip(spans, scan.zoom_many(excess, spans, scan.PEAK_XTOL[kind], rough=look)):
+    for (lo, hi), (top, at) in zip(
+        spans, scan.zoom_many(excess, spans, scan.PEAK_XTOL[periodic], rough=look)
+    ):
         if top <= 0 or any(a <= at <= b for a, b, _, _ in found):
             continue
         # a range narrower than the grid: its ends on either side of the peak
@@ -287,7 +343,7 @@ def assess(
     max_real_at,
     min_damping_at,
     probe=None,
-    kind="eigen",
+    periodic=False,
     closeness=None,
     floor=0.0,
     rough_growth=None,
@@ -308,7 +364,8 @@ def assess(
         The same quantities at one speed, as accurate as the sweep's (to refine the worst values).
     probe : ndarray, optional
         Internal speeds between the sweep's (:func:`groundres.assess.scan.probe_speeds`).
-    kind : "eigen" or "floquet"
+    periodic : bool
+        A periodic (Floquet) analysis, whose roots are known modulo the rotor speed.
     closeness : callable, optional
         Nearest approach of two roots at given speeds (:func:`find_ranges`).
     floor : float
@@ -343,7 +400,7 @@ def assess(
     order = np.argsort(grid, kind="stable")
     grid, values = grid[order], values[order]
     ranges, peak_speeds, open_below = find_ranges(
-        grid, values, excess, kind, closeness=closeness, floor=floor, rough=rough
+        grid, values, excess, periodic, closeness=closeness, floor=floor, rough=rough
     )
     i = int(np.argmax(values))
     sweep_i = int(np.argmin(np.abs(speeds - grid[i])))
@@ -372,7 +429,7 @@ def assess(
         ratio = float(min_damping_at(w))
         if ratio < -low[0]:
             low = (-ratio, w)
-            if kind == "eigen":
+            if not periodic:
                 k = int(np.argmin(np.abs(grid - w)))
                 lo, hi = scan.bracket(grid, k)
                 top, where = _maximise(lambda x: -min_damping_at(x), min(lo, w), max(hi, w), xtol)

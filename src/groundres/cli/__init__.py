@@ -62,13 +62,9 @@ class _Group(click.Group):
             sys.stderr.close()
             sys.exit(0)
         except Exception as err:  # noqa: BLE001 - the one place failures become exit codes
-            from ..analysis import MethodError
-            from ..assess.resolution import ModelRangeError
-            from ..model.schema import CaseError
-            from ..results.folders import OutputFolderError
-            from ..solve.floquet.transition import SpeedRangeError
+            from ..errors import InputError
 
-            if isinstance(err, (CaseError, MethodError, ModelRangeError, SpeedRangeError, OutputFolderError)):
+            if isinstance(err, InputError):  # (an input the user can mend: groundres.errors)
                 raise UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise

@@ -13,7 +13,7 @@ def command(name):
     """List the shipped cases, or print the case file NAME."""
     import tomllib
 
-    from ..model.schema import shipped_cases
+    from ..model.casefile import shipped_cases
     from .printout import simple_table
 
     shipped = shipped_cases()

@@ -7,8 +7,6 @@ from pathlib import Path
 
 import click
 
-from ..model.units import fmt_frequency, fmt_speed, ref_note  # noqa: F401  (the commands' speed text)
-
 DEFAULT_CASE = "hammond-undamped"
 
 
@@ -62,7 +60,8 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
 
 def check_out(path: Path) -> None:
     """Refuse, before any work, an output folder that holds files groundres did not write."""
-    from ..results.folders import OutputFolderError, check_output_folder
+    from ..errors import OutputFolderError
+    from ..results.folders import check_output_folder
 
     try:
         check_output_folder(path)
@@ -80,7 +79,7 @@ def case_at_speed(case: str | None, speed: float):
     """The case and a --speed (in the case's unit) in rad/s."""
     import math
 
-    from ..model.params import SPEED_UNITS
+    from ..model.units import SPEED_UNITS
 
     the_case = load(case)
     unit = the_case.sweep.unit
@@ -89,13 +88,12 @@ def case_at_speed(case: str | None, speed: float):
     w = speed * SPEED_UNITS[unit]
     if not (math.isfinite(w) and w > 0):
         fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
-    from ..assess import resolution
+    from ..assess.resolution import check_representable
+    from ..model.system import System
 
-    system, _ = resolution.system_in_mass_unit(the_case.rotor, the_case.body)
-    try:
-        resolution.check_representable(system, w, "--speed", (unit, SPEED_UNITS[unit]))
-    except resolution.ModelRangeError as err:
-        fail_user(str(err))
+    # (an error here is a ModelRangeError, which the command line turns into exit 2)
+    system = System.in_mass_unit(the_case.rotor, the_case.body)
+    check_representable(system, w, "--speed", (unit, SPEED_UNITS[unit]))
     return the_case, w
 
 
@@ -104,8 +102,8 @@ def load(case: str | None, named: bool = False):
 
     ``named``: the message names the argument (for commands that read several cases).
     """
-    from ..model.schema import CaseError, load_case
-    from ..model.validate import shown
+    from ..errors import CaseError, shown
+    from ..model.schema import load_case
 
     if case is not None and not case.strip():
         default = "" if named else " (none: the default case)"

@@ -6,12 +6,13 @@ from pathlib import Path
 
 import click
 
+from ..methods import OPTIONS
+from ..model.units import fmt_speed
 from .common import (
     FORMAT,
     Steps,
     check_out,
     fail_user,
-    fmt_speed,
     invocation,
     load,
     make_console,
@@ -45,7 +46,7 @@ CSV_HEADER = [
     "--method",
     "methods",
     multiple=True,
-    type=click.Choice(["auto", "eigen", "floquet"]),
+    type=click.Choice(OPTIONS),
     help="Analysis method, repeatable: every CASE is analysed by each [default: each case's own].",
 )
 @click.option(
@@ -212,7 +213,7 @@ def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
     """Baseline, entry and difference as the table shows them (speeds in the first case's
     unit): round-off never as a number. ``neutral``: entry number -> whether its largest
     real part is neutral (within the growth threshold of zero)."""
-    from ..model.params import SPEED_UNITS
+    from ..model.units import SPEED_UNITS
 
     speed = row["unit"] == "rad/s"
     width = row["quantity"] == "unstable_width"

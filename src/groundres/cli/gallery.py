@@ -11,7 +11,7 @@ from .common import FORMAT, Steps, check_out, fail_user, invocation, make_consol
 
 def parse_figures(text: str | None) -> tuple[int, ...]:
     """--figures: comma-separated numbers and ranges (3,4,8-10) of the paper's figures."""
-    from ..pages.gallery import NUMBERS
+    from ..pages.figures import NUMBERS
 
     if text is None:
         return NUMBERS

@@ -6,19 +6,18 @@ import contextlib
 
 import click
 
+from ..model.units import fmt_frequency, ref_note
 from .common import (
     FORMAT,
     Steps,
     case_at_speed,
     check_out,
     fail_user,
-    fmt_frequency,
     invocation,
     make_console,
     out_option,
     output_dir,
     plain,
-    ref_note,
 )
 from .run import STAGES
 
@@ -153,7 +152,7 @@ REPORT_UNITS = {
 
 def _report_entry(shape, frames, sweep) -> dict:
     """One mode of phasors.json: strict JSON, a reason beside every null."""
-    from ..model.params import SPEED_UNITS
+    from ..model.units import SPEED_UNITS
 
     lam = shape.eigenvalue
     no_motion = "the coordinate does not move in this mode (zero displacement): no phase"

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import click
 
-from ..model.validate import shown
+from ..errors import shown
 from .common import fail_user
 
 #: --speed-axis choices (as groundres.plotting.axes.SPEED_AXES, not imported: the CLI starts light).

@@ -8,10 +8,9 @@ values within the growth threshold of zero print as neutral, not as numbers
 
 from __future__ import annotations
 
-from ..model.params import FREQUENCY_UNITS
-from ..model.units import significant
+from ..model.units import FREQUENCY_UNITS, fmt_speed, ref_note, significant
 from ..results.summary import no_exact_reason, open_below_note
-from .common import fmt_speed, plain, ref_note
+from .common import plain
 
 
 def simple_table(title: str):
@@ -110,7 +109,7 @@ def _installed(lag: dict) -> str:
 
 def deutsch_table(summary: dict, sweep):
     """One row per body mode: tuning, requirement and the verdict on the installed damper."""
-    from ..model.params import SPEED_UNITS
+    from ..model.units import SPEED_UNITS
 
     lag = summary["lag_damping"]
     unit = sweep.unit

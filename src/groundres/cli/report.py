@@ -7,7 +7,8 @@ from pathlib import Path
 
 import click
 
-from ..model.validate import shown
+from ..errors import shown
+from ..methods import OPTIONS
 from .common import (
     FORMAT,
     Steps,
@@ -80,7 +81,7 @@ def study_folder(path: str) -> Path:
 )
 @click.option(
     "--method",
-    type=click.Choice(["auto", "eigen", "floquet"]),
+    type=click.Choice(OPTIONS),
     default=None,
     help="Analysis method (overrides the case).",
 )

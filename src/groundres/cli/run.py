@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from ..methods import OPTIONS
 from .common import (
     DEFAULT_CASE,
     FORMAT,
@@ -40,7 +41,7 @@ STAGES = {
 )
 @click.option(
     "--method",
-    type=click.Choice(["auto", "eigen", "floquet"]),
+    type=click.Choice(OPTIONS),
     default=None,
     help="Analysis method (overrides the case).",
 )

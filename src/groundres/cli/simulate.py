@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import click
 
+from ..model.units import fmt_speed
 from .common import (
     FORMAT,
     Steps,
     case_at_speed,
     check_out,
     fail_user,
-    fmt_speed,
     invocation,
     make_console,
     out_option,
@@ -51,13 +51,14 @@ def command(case, speed, duration, initial, out, fmt):
 
     import numpy as np
 
-    from ..analysis import METHOD_NAMES, choose_method, root_solver
     from ..assess.stability import is_neutral
+    from ..methods import choose_method
     from ..model.system import System
     from ..plotting.timehistory import time_history
     from ..results import files, folders
     from ..results.dataset import coordinate_unit
     from ..solve import simulate as sim_module
+    from ..solve.solvers import solver_for
 
     console = make_console()
     if duration is not None and not (math.isfinite(duration) and duration > 0):
@@ -72,7 +73,7 @@ def command(case, speed, duration, initial, out, fmt):
     given = duration
     duration = _checked_duration(system, the_case.sweep.unit, speed, w, given)
     method = choose_method(the_case)
-    roots = np.asarray(root_solver(the_case, method).roots(w)).ravel()
+    roots = np.asarray(solver_for(the_case, method).roots(w)).ravel()
     predicted = float(roots.real.max())
     if given is None:  # (longer where the least stable root stands out slowly)
         duration = _checked_duration(system, the_case.sweep.unit, speed, w, None, _settling(roots))
@@ -108,7 +109,7 @@ def command(case, speed, duration, initial, out, fmt):
                 the_case,
                 command="simulate",
                 method="time-integration",
-                prediction_method=METHOD_NAMES[method],
+                prediction_method=method.value,
                 frame="blade coordinates, body axes nonrotating",
                 accuracy={
                     "integrator": "DOP853 (scipy.integrate.solve_ivp), dense output",

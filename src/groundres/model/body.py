@@ -29,7 +29,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from .validate import ParameterError, finite, lengths, non_negative, positive
+from ..errors import ParameterError
+from .validate import finite, lengths, non_negative, positive
 
 BODY_DOFS = ("x", "y", "z", "pitch", "roll", "yaw")
 #: Coordinates that translate (their inertia is a mass).

@@ -15,12 +15,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from .validate import shown
-
-
-class CaseError(ValueError):
-    """A case file that cannot be used, with a message fit for the user."""
-
+from ..errors import CaseError, shown
 
 #: Largest case file read [bytes]; a case is a few kB of text.
 MAX_CASE_BYTES = 1_000_000

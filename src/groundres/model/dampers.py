@@ -27,7 +27,8 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
-from .validate import ParameterError, lengths, non_negative
+from ..errors import ParameterError
+from .validate import lengths, non_negative
 
 #: Damper kinds and the blades each spans (0: to the hub).
 KINDS = {"blade-to-hub": 0, "blade-to-blade": 1, "blade-to-next-but-one": 2}

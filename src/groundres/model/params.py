@@ -11,14 +11,13 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from .body import BODY_DOFS, Body, Leg  # noqa: F401  (re-exported)
-from .validate import ParameterError, finite, non_negative, positive, shown  # noqa: F401  (re-exported)
+from ..errors import ParameterError
+from ..methods import OPTIONS
+from .body import Body
+from .units import SPEED_UNITS
+from .validate import non_negative, positive
 
-SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
-#: How a frequency reads in a case whose speeds are in each unit (rpm: cycles/min).
-FREQUENCY_UNITS = {"rad/s": "rad/s", "rpm": "cycles/min", "Hz": "Hz"}
 FRAMES = ("nonrotating", "rotating")
-METHODS = ("auto", "eigen", "floquet")
 
 #: Most blades a rotor may have (docs/case-files.md, "Limits").
 MAX_BLADES = 32
@@ -215,7 +214,7 @@ class Sweep:
         p = self.points
         if isinstance(p, bool) or not isinstance(p, int) or not 2 <= p <= MAX_POINTS:
             raise ParameterError("points", p, f"must be a whole number from 2 to {MAX_POINTS}")
-        for key, allowed in (("unit", SPEED_UNITS), ("frame", FRAMES), ("method", METHODS)):
+        for key, allowed in (("unit", SPEED_UNITS), ("frame", FRAMES), ("method", OPTIONS)):
             if getattr(self, key) not in allowed:
                 raise ParameterError(key, getattr(self, key), f"must be one of {list(allowed)}")
         if self.reference is not None:

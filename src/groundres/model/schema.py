@@ -10,30 +10,13 @@ from __future__ import annotations
 import difflib
 from pathlib import Path
 
-from .body import LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Leg
-from .casefile import (  # noqa: F401  (CaseError, shipped_cases, MAX_CASE_BYTES: the config's, for callers)
-    LARGEST_NUMBER,
-    LARGEST_NUMBER_TEXT,
-    MAX_CASE_BYTES,
-    CaseError,
-    case_text,
-    shipped_cases,
-    toml_data,
-)
+from ..errors import CaseError, ParameterError, shown
+from .body import BODY_DOFS, LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Body, Leg
+from .casefile import LARGEST_NUMBER_TEXT, case_text, toml_data
 from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
-from .params import (
-    BLADE_KEYS,
-    BODY_DOFS,
-    SPEED_UNITS,
-    Blade,
-    Body,
-    Case,
-    ParameterError,
-    Rotor,
-    Sweep,
-    finite,
-    shown,
-)
+from .params import BLADE_KEYS, Blade, Case, Rotor, Sweep
+from .units import SPEED_UNITS
+from .validate import finite
 
 _NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
     "a number",
@@ -100,8 +83,15 @@ REQUIRED = {
 _DEFAULT_DOFS = ["x", "y"]
 
 
-def _where(table: str, key: str) -> str:
-    return f"[{table}] {key}" if table else key
+def key_text(table: str, key: str = "") -> str:
+    """How a message names ``key`` of a case file's ``table`` (as the file writes it):
+    ``[sweep] stop``, ``[[body.gear]] damping`` (an array of tables), ``[rotor]``."""
+    if not table:
+        return key
+    parent, _, name = table.rpartition(".")
+    array = SCHEMA.get(parent, {}).get(name) == _TABLES
+    where = f"[[{table}]]" if array else f"[{table}]"
+    return f"{where} {key}" if key else where
 
 
 def _check_type(table: str, key: str, value, kind: str) -> None:
@@ -116,10 +106,10 @@ def _check_type(table: str, key: str, value, kind: str) -> None:
     }[kind]
     if not ok:
         text = type(value).__name__ if isinstance(value, (dict, list)) else shown(value)
-        raise CaseError(f"{_where(table, key)} = {text}: must be {kind}")
+        raise CaseError(f"{key_text(table, key)} = {text}: must be {kind}")
     if kind == _NUMBER and not finite(value):
         raise CaseError(
-            f"{_where(table, key)} = {shown(value)}: must be a finite number, "
+            f"{key_text(table, key)} = {shown(value)}: must be a finite number, "
             f"|value| <= {LARGEST_NUMBER_TEXT}"
         )
 
@@ -136,7 +126,7 @@ def _check_table(table: str, data: dict) -> None:
         _check_type(table, key, value, schema[key])
     for key in REQUIRED.get(table, ()):
         if key not in data:
-            raise CaseError(f"missing key {_where(table, key)}: it is required")
+            raise CaseError(f"missing key {key_text(table, key)}: it is required")
 
 
 def _build(prefix: str, factory, **kwargs):

@@ -15,8 +15,10 @@ import numpy as np
 
 from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function
 from . import dampers, mbc
+from .body import BODY_DOFS, Body
 from .mbc import Coordinate
-from .params import BODY_DOFS, Body, Rotor
+from .params import Rotor
+from .units import SI, MassUnit
 
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
 
@@ -42,10 +44,15 @@ class System:
     ----------
     rotor : Rotor
     body : Body
+    mass_unit : MassUnit
+        The unit the masses, inertias, springs and dampers of ``rotor`` and
+        ``body`` are given in, and so every coefficient of the equations
+        (:class:`groundres.model.units.MassUnit`): SI unless given.
+        :meth:`in_mass_unit` chooses it for a case.
     """
 
-    def __init__(self, rotor: Rotor, body: Body):
-        self.rotor, self.body = rotor, body
+    def __init__(self, rotor: Rotor, body: Body, mass_unit: MassUnit = SI):
+        self.rotor, self.body, self.mass_unit = rotor, body, mass_unit
         self.n_blades = rotor.n_blades
         self.n_body = len(body.dofs)
         self.blade_kinds = ("lag", "flap") if rotor.flap else ("lag",)
@@ -72,6 +79,13 @@ class System:
         #: system takes dampings c_j set per speed, C = C_0 + sum_j c_j D_j
         #: (:meth:`split_damping`); none (d = 0) in a plain system.
         self.damping_directions = np.zeros((0, self.size, self.size))
+
+    @classmethod
+    def in_mass_unit(cls, rotor: Rotor, body: Body) -> System:
+        """The equations of ``rotor`` on ``body`` (SI) computed in the mass unit their inertias
+        call for (:meth:`groundres.model.units.MassUnit.of`): exact, and safe from overflow."""
+        unit = MassUnit.of(rotor, body)
+        return cls(*unit.scale(rotor, body), unit)
 
     @cached_property
     def coordinates(self) -> list[Coordinate]:
@@ -183,8 +197,8 @@ class System:
         return float(per_blade.max())
 
     def with_lag_damping(self, value: float) -> System:
-        """The same equations with ``value`` on every working damper a search sizes
-        (:attr:`searched`: each blade's lag damper, or the damper rods' damping).
+        """The same equations with ``value`` (in :attr:`mass_unit`) on every working damper a
+        search sizes (:attr:`searched`: each blade's lag damper, or the damper rods' damping).
 
         A failed damper (none on a blade, a rod without damping, while others have
         one) stays failed.
@@ -193,11 +207,11 @@ class System:
             rods = tuple(
                 replace(d, damping=value) if w else d for d, w in zip(self.rotor.dampers, self.working)
             )
-            return System(replace(self.rotor, dampers=rods), self.body)
+            return System(replace(self.rotor, dampers=rods), self.body, self.mass_unit)
         blades = tuple(
             replace(b, lag_damping=value) if w else b for b, w in zip(self.rotor.blades, self.working)
         )
-        return System(replace(self.rotor, blades=blades), self.body)
+        return System(replace(self.rotor, blades=blades), self.body, self.mass_unit)
 
     def lag_damping_split(self) -> System:
         """The equations without their working lag dampers, carrying dC/dc.
@@ -229,7 +243,7 @@ class System:
             if np.abs(other[::2] - own[::2]).max() > 1e-13 * scale or np.abs(d - d[0]).max() > 1e-13 * scale:
                 raise ValueError("a damping direction must leave mass and stiffness alone and be constant")
             directions.append(d[0])
-        split = System(self.rotor, self.body)
+        split = System(self.rotor, self.body, self.mass_unit)
         split.damping_directions = np.array(directions).reshape(len(directions), self.size, self.size)
         return split
 

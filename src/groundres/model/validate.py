@@ -4,19 +4,7 @@ from __future__ import annotations
 
 import math
 
-
-def shown(value) -> str:
-    """``repr(value)`` fit for a one-line message: long whole numbers and texts shortened."""
-    if isinstance(value, int) and not isinstance(value, bool):
-        digits = math.floor(abs(value).bit_length() * math.log10(2)) + 1 if value else 1
-        if digits > 20:
-            if digits > 4000:  # too long to convert to text at all
-                return f"{'-' if value < 0 else ''}<a whole number of about {digits} digits>"
-            text = str(value)
-            return f"{text[:8]}...{text[-4:]} ({len(text.lstrip('-'))} digits)"
-        return repr(value)
-    text = repr(value)
-    return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
+from ..errors import ParameterError
 
 
 def finite(value) -> bool:
@@ -27,28 +15,6 @@ def finite(value) -> bool:
         return math.isfinite(value)
     except OverflowError:  # a whole number beyond the float range
         return False
-
-
-class ParameterError(ValueError):
-    """A parameter value outside what the model allows.
-
-    Attributes
-    ----------
-    key : str
-        Name of the parameter (dotted path once the case reader adds its table).
-    value : object
-        The offending value.
-    allowed : str
-        What is allowed, in words.
-    """
-
-    def __init__(self, key: str, value, allowed: str):
-        self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"{key} = {shown(value)}: {allowed}")
-
-    def under(self, prefix: str) -> ParameterError:
-        """The same error with its key placed under a table name."""
-        return ParameterError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.allowed)
 
 
 def positive(obj, *names):

@@ -475,3 +475,23 @@ def identify(
         harmonics=np.moveaxis(window, -1, 2),
         harmonic_orders=np.arange(-h, h + 1),
     )
+
+
+def identify_solution(solution, speeds, coords, weights, isotropic_pairs=(), threshold=None) -> Modes:
+    """:func:`identify` of a tracked solution (:class:`groundres.solve.modal.Eigensolution`):
+    its harmonics, or its eigenvectors as their only harmonic where it has none."""
+    harmonics = solution.harmonics if solution.harmonics is not None else solution.vector[:, :, None, :]
+    orders = solution.orders if solution.orders is not None else np.array([0])
+    return identify(
+        solution.eigenvalue,
+        harmonics,
+        orders,
+        coords,
+        weights,
+        speeds,
+        block=solution.block,
+        blocks=solution.blocks,
+        key=solution.key,
+        isotropic_pairs=isotropic_pairs,
+        threshold=threshold,
+    )

@@ -97,7 +97,7 @@ def at_speed(result, w: float):
     return analyze(
         result.case,
         frame=result.frame,
-        method=result.method_option,
+        method=result.method.option,
         speeds=np.union1d(result.rotor_speed, [w]),
         lag_damping_search=False,
     )

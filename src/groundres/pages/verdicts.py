@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.params import SPEED_UNITS
+from ..model.units import SPEED_UNITS
 from ..results.comparison import overlaps
 
 #: Largest difference of a range end from the paper's, in units of the reference speed, that

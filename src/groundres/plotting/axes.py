@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ..model.params import SPEED_UNITS
+from ..model.units import SPEED_UNITS
 
 #: Choices of ``speed_axis``: the case's reference where it has one, its unit, or the reference.
 SPEED_AXES = ("auto", "unit", "normalised")

@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .coleman import label_colour, line_style, root_lines, speed_scale
+from .axes import speed_scale
+from .coleman import label_colour, line_style, root_lines
 from .titles import figure_title
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..assess.stability import growth_threshold
-from ..model.params import FREQUENCY_UNITS, SPEED_UNITS
+from ..model.units import FREQUENCY_UNITS, SPEED_UNITS
 from .axes import checked_limits, checked_modes, speed_scale
 from .coleman import label_stretches
 from .titles import figure_title, literal

@@ -208,7 +208,8 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
     >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
     >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
     """
-    from ..analysis import MethodError, analyze
+    from ..analysis import analyze
+    from ..errors import MethodError
     from ..model.schema import load_case
 
     cases = [c if isinstance(c, Case) else load_case(c) for c in cases]

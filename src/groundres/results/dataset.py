@@ -250,9 +250,9 @@ def dataset(result):
     attrs = {
         "Conventions": CONVENTIONS,
         "title": result.case.title,
-        "source": f"groundres {__version__}, {result.method} analysis",
+        "source": f"groundres {__version__}, {result.method.value} analysis",
         "groundres_version": __version__,
-        "method": result.method,
+        "method": result.method.value,
         "frame": result.frame,
         "comment": (
             "speeds and frequencies in rad/s, real parts in 1/s (SI; the case's own speed unit "

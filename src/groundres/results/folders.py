@@ -20,6 +20,7 @@ import tempfile
 import threading
 from pathlib import Path
 
+from ..errors import OutputFolderError
 from .files import current_umask, strict, write_bytes, write_json
 
 #: The file that marks a folder as groundres output (and lists its files).
@@ -35,10 +36,6 @@ _OLDER_OUTPUTS = re.compile(
     r"summary\.json|modes\.csv|modes\.nc|coleman\.png|simulation\.(png|csv)|phasors\.(csv|json)"
     r"|phasors_.+\.png|mode_.+\.gif|\..+\.part(\..+)?"
 )
-
-
-class OutputFolderError(ValueError):
-    """An output folder groundres will not replace: it holds files groundres did not write."""
 
 
 def foreign_entries(path: str | Path) -> list[str]:

@@ -130,7 +130,7 @@ def summary(result) -> dict:
     out = {
         "title": case.title,
         "groundres_version": __version__,
-        "method": result.method,
+        "method": result.method.value,
         "frame": result.frame,
         "speed_unit": "rad/s",
         "units": dict(UNITS),
@@ -190,7 +190,7 @@ def summary(result) -> dict:
     lag["exact_minimum_searched"] = "damper rods" if on_rods else "blade lag dampers"
     lag["exact_minimum_unit"] = "N s/m" if on_rods else "N m s/rad"
     put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
-    lag["exact_minimum_relative_tolerance"] = RTOL[result.method_option]
+    lag["exact_minimum_relative_tolerance"] = RTOL[result.method.option]
     lag["exact_minimum_note"] = (
         "smallest damping, set on every working damper of the kind searched (the damper rods' "
         "damping along the rod where the case has rods, else each blade's lag damper; on every "

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assess.stability import Stability, growth_threshold
+from ..methods import Method
 from ..model.params import Case
 from ..modes.identify import Modes
 
@@ -22,8 +23,9 @@ class SweepResult:
     Attributes
     ----------
     case : Case
-    method : str
-        "multiblade-eigen", "rotating-eigen" or "floquet".
+    method : Method
+        The analysis (:class:`groundres.methods.Method`, a str: "multiblade-eigen",
+        "rotating-eigen" or "floquet"); ``method.option`` repeats it.
     frame : str
         Frame of ``frequency``: "nonrotating" or "rotating".
     rotor_speed : ndarray (n_s,)
@@ -53,7 +55,7 @@ class SweepResult:
     """
 
     case: Case
-    method: str
+    method: Method
     frame: str
     rotor_speed: np.ndarray
     modes: Modes
@@ -64,12 +66,6 @@ class SweepResult:
     weights: np.ndarray | None = None
     no_exact_lag_damping: tuple | None = None
     accuracy: dict | None = None
-
-    @property
-    def method_option(self) -> str:
-        """The ``method`` of :func:`groundres.analysis.analyze` that repeats this analysis:
-        "floquet", or "eigen" for either time-invariant form."""
-        return "floquet" if self.method == "floquet" else "eigen"
 
     @property
     def labels(self) -> list[str]:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..assess.resolution import ModelRangeError
+from ..errors import ModelRangeError
 from ..model.system import System
 
 

@@ -29,8 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._version import __version__
-from ..model.params import Case, shown
-from ..model.schema import SCHEMA, CaseError, parse_case
+from ..errors import StudyError, shown
+from ..model.params import Case
+from ..model.schema import SCHEMA, parse_case
 
 #: Most grid points of one study (a study beyond it is refused before any work).
 MAX_POINTS = 1_000_000
@@ -49,10 +50,6 @@ _ENTRY = re.compile(rf"^({'|'.join(re.escape(t) for t in REPEATED)})\[([0-9]+)\]
 _NAMED_BY = {t: "index" for t in REPEATED if SCHEMA[t].get("index") == "a whole number"}
 #: Keys of repeated tables that say which blade an entry belongs to: no design values.
 _WHICH = {"index", "blade"}
-
-
-class StudyError(CaseError):
-    """A study that cannot be set up (a key, a range or a count), fit for the user."""
 
 
 def numeric_keys() -> list[str]:

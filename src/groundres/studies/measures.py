@@ -12,10 +12,8 @@ import math
 
 import numpy as np
 
-from ..analysis import MethodError, analyze
-from ..assess.resolution import ModelRangeError
-from ..model.schema import CaseError
-from ..solve.floquet.transition import SpeedRangeError
+from ..analysis import analyze
+from ..errors import CaseError, MethodError, ModelRangeError, SpeedRangeError
 
 #: name -> (dtype, units, long_name): the data variables of a study.
 MEASURES = {

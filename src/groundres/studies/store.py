@@ -22,7 +22,8 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from .grid import FAILURE, Grid, StudyError
+from ..errors import StudyError
+from .grid import FAILURE, Grid
 from .measures import ERROR, MEASURES, empty
 
 DONE = "done"

@@ -17,7 +17,8 @@ import numpy as np
 import xarray as xr
 
 from .._version import __version__
-from .grid import FAILURE, Grid, StudyError, canonical, make_grid, raw
+from ..errors import StudyError
+from .grid import FAILURE, Grid, canonical, make_grid, raw
 from .measures import ERROR, MEASURES
 from .run import compute, map_batches
 from .store import DONE, load, template, write_netcdf
@@ -172,7 +173,7 @@ def deutsch_curve(case, grid: Grid):
     criterion does not apply; or None (no lag-damping key, or not two keys).
     """
     from ..assess.deutsch import deutsch
-    from ..model.schema import CaseError
+    from ..errors import CaseError
     from .grid import varied_case
 
     if len(grid.keys) != 2:

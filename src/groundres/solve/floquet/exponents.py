@@ -36,25 +36,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import SpeedRangeError
 from ...model.system import System
 from ..modal import state_matrix
+from .coefficients import frozen_rates, per_speed, rates_per_radian
 from .lifting import lifted_eig
-from .symmetry import Symmetry, symmetry  # noqa: F401  (Symmetry: the type of solve's symmetries, for callers)
-from .transition import (  # noqa: F401  (BUTCHER6, DOP8: the tableaux, for callers)
-    BUTCHER6,
-    DOP8,
-    STEP_SCALE,
-    TOLERANCE,
-    SpeedRangeError,
-    divisor_at_least,
-    frozen_rates,
-    integrate,
-    ordered_product,
-    per_speed,
-    rates_per_radian,
-    transition,
-)
-from .transition import estimated_steps as transition_steps
+from .symmetry import Symmetry, symmetry
+from .tableau import DOP8
+from .transition import STEP_SCALE, TOLERANCE, divisor_at_least, integrate, transition
+from .vectorised import ordered_product
 
 #: Harmonics returned on each side of a root's dominant one.
 HARMONICS = 10
@@ -412,37 +402,6 @@ def _real_bounds(rho, vec, phi, error, dt):
         lower = np.log(np.maximum(np.abs(rho) - move, 0.0)) / dt[:, None]
     lower[~np.isfinite(move)] = -np.inf
     return np.where(np.isnan(lower), -np.inf, lower), np.where(np.isnan(upper), np.inf, upper)
-
-
-def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Integration steps and lifted-matrix rows at each speed, estimated before any work.
-
-    Returns
-    -------
-    steps : ndarray (n_s,)
-        Steps over the reduced period (zero at rest), twice as many where the
-        lifted problem integrates the period a second time.
-    rows : ndarray (n_s,)
-        Rows of the lifted matrix (0 where the speed needs none).
-    """
-    speeds = np.asarray(speeds, dtype=float)
-    steps, rows = np.zeros(len(speeds)), np.zeros(len(speeds))
-    moving = speeds > 0
-    if moving.any():
-        angle = symmetry(system).angle
-        w = speeds[moving]
-        if len(w) > 256:  # (smooth in speed: estimated on a sample of it)
-            sample = np.unique(np.r_[np.geomspace(w.min(), w.max(), 200), np.linspace(w.min(), w.max(), 56)])
-            s_steps, s_rows = estimated_cost(system, sample, lift)
-            steps[moving] = np.exp(np.interp(np.log(w), np.log(sample), np.log(s_steps)))
-            rows[moving] = np.interp(w, sample, s_rows)
-            return steps, rows
-        rate, low, high = frozen_rates(system, w)
-        spread = 1.25 * (high - low) * angle / w + 2.0
-        lifted = (spread > LIFT_SPREAD) & lift
-        steps[moving] = transition_steps(system, w, angle, rate) * np.where(lifted, 2.0, 1.0)
-        rows[moving] = np.where(lifted, (np.ceil(spread / LIFT_STEP) + 1) * 2 * system.size, 0)
-    return steps, rows
 
 
 def monodromy(

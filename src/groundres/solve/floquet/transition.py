@@ -32,20 +32,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import SpeedRangeError
 from ...model.system import System
-from .coefficients import (  # noqa: F401  (GRID_CACHE_SIZE, frozen_roots, node_matrices: for callers)
+from .coefficients import (
     GRID_CACHE_SIZE,
     directions_of,
-    frozen_rates,
-    frozen_roots,
     grid_nodes,
     grid_values,
     node_coefficients,
-    node_matrices,
     per_speed,
     rates_per_radian,
 )
-from .tableau import BUTCHER6, DOP8, Tableau  # noqa: F401  (for callers)
+from .tableau import DOP8
 from .vectorised import ordered_product, plan_runs, transition_pairwise
 
 #: First guess of step * (fastest rate per radian + HARMONIC_RATE).
@@ -62,18 +60,6 @@ LEAST_STEPS = 16
 MAX_STEPS = 1 << 20
 #: Steps over an interval per (radians of the fastest motion)^(9/8) (:func:`estimated_steps`).
 STEPS_FACTOR = 1.4
-
-
-class SpeedRangeError(ValueError):
-    """A rotor speed too low (too close to zero, but not zero) for Floquet analysis."""
-
-    def __init__(self, speed: float, why: str):
-        super().__init__(
-            f"[sweep] Floquet analysis at {speed:.4g} rad/s {why}: the case's dampers or springs "
-            "decay too fast for the periodic analysis at that rotor speed; start the sweep at a "
-            "speed a few times higher, or use method = 'auto' where the case has a time-invariant form"
-        )
-        self.speed = speed
 
 
 #: Slowest rotor speed [rad/s] a periodic analysis takes: its azimuth-domain coefficients grow

@@ -1,0 +1,99 @@
+"""Every error groundres raises for an input it cannot use.
+
+Each names the key or option, the value and what is allowed, in one line fit
+for the user. They share :class:`InputError`, which the command line turns
+into exit status 2 with that line and no traceback; any other exception is a
+failure of groundres itself (exit status 1).
+
+=====================  ==============================================================
+:class:`CaseError`     a case file that cannot be read or breaks the format
+:class:`ParameterError` a parameter value outside what the model allows (from Python)
+:class:`StudyError`    a study that cannot be set up (a varied key, a range, a store)
+:class:`MethodError`   a method that cannot analyse the case (eigen on periodic equations)
+:class:`ModelRangeError` a case the model cannot resolve in double precision, or too costly
+:class:`SpeedRangeError` a rotor speed too close to zero for a periodic analysis
+:class:`OutputFolderError` an output folder groundres will not replace
+=====================  ==============================================================
+"""
+
+from __future__ import annotations
+
+import math
+
+
+def shown(value) -> str:
+    """``repr(value)`` fit for a one-line message: long whole numbers and texts shortened."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        digits = math.floor(abs(value).bit_length() * math.log10(2)) + 1 if value else 1
+        if digits > 20:
+            if digits > 4000:  # too long to convert to text at all
+                return f"{'-' if value < 0 else ''}<a whole number of about {digits} digits>"
+            text = str(value)
+            return f"{text[:8]}...{text[-4:]} ({len(text.lstrip('-'))} digits)"
+        return repr(value)
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
+
+
+class InputError(ValueError):
+    """An input groundres cannot use; the message says which, and what is allowed."""
+
+
+class CaseError(InputError):
+    """A case file that cannot be used, with a message fit for the user."""
+
+
+class ParameterError(InputError):
+    """A parameter value outside what the model allows.
+
+    Attributes
+    ----------
+    key : str
+        Name of the parameter (dotted path once the case reader adds its table).
+    value : object
+        The offending value.
+    allowed : str
+        What is allowed, in words.
+    """
+
+    def __init__(self, key: str, value, allowed: str):
+        self.key, self.value, self.allowed = key, value, allowed
+        super().__init__(f"{key} = {shown(value)}: {allowed}")
+
+    def under(self, prefix: str) -> ParameterError:
+        """The same error with its key placed under a table name."""
+        return ParameterError(f"{prefix}.{self.key}" if prefix else self.key, self.value, self.allowed)
+
+
+class StudyError(CaseError):
+    """A study that cannot be set up (a key, a range or a count), fit for the user."""
+
+
+class MethodError(InputError):
+    """The method asked for cannot analyse this case."""
+
+
+class ModelRangeError(InputError):
+    """A case the model cannot resolve, or a sweep too costly; the message says why and what is allowed."""
+
+
+class SpeedRangeError(InputError):
+    """A rotor speed too low (too close to zero, but not zero) for Floquet analysis.
+
+    Attributes
+    ----------
+    speed : float
+        The speed [rad/s].
+    """
+
+    def __init__(self, speed: float, why: str):
+        super().__init__(
+            f"[sweep] Floquet analysis at {speed:.4g} rad/s {why}: the case's dampers or springs "
+            "decay too fast for the periodic analysis at that rotor speed; start the sweep at a "
+            "speed a few times higher, or use method = 'auto' where the case has a time-invariant form"
+        )
+        self.speed = speed
+
+
+class OutputFolderError(InputError):
+    """An output folder groundres will not replace: it holds files groundres did not write."""

@@ -1,0 +1,86 @@
+"""The one vocabulary of analysis methods: which analysis a case gets, and its names.
+
+A case is analysed by one of three methods, told apart by the transform that
+removes the periodic coefficients of its equations (see ``docs/conventions.md``):
+
+=========================  ==========  =========  ===========================================
+:class:`Method`            ``form``    ``option``  when
+=========================  ==========  =========  ===========================================
+``"multiblade-eigen"``     multiblade  eigen      identical blades, N >= 3: multiblade
+                                                  coordinates, any body
+``"rotating-eigen"``       rotating    eigen      otherwise an isotropic body, in rotating axes
+``"floquet"``              floquet     floquet    the equations are periodic in every frame
+=========================  ==========  =========  ===========================================
+
+A Method's value is the name results and files store (``summary.json``'s
+``method``); ``option`` is the ``[sweep] method`` (and ``--method``) that
+repeats it, one of :data:`OPTIONS`, where "auto" takes a time-invariant form
+when the case has one. Every layer speaks of a Method: solvers carry one,
+scans and searches ask ``method.periodic``, results store it.
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+
+from .errors import MethodError
+
+#: What ``[sweep] method`` and ``--method`` accept.
+OPTIONS = ("auto", "eigen", "floquet")
+
+
+class Method(StrEnum):
+    """An analysis method; its value is the name results store."""
+
+    MULTIBLADE = "multiblade-eigen"
+    ROTATING = "rotating-eigen"
+    FLOQUET = "floquet"
+
+    @property
+    def form(self) -> str:
+        """The transform: "multiblade", "rotating" or "floquet" (none: the periodic equations)."""
+        return self.value.removesuffix("-eigen")
+
+    @property
+    def option(self) -> str:
+        """The method option that repeats this analysis: "eigen" or "floquet"."""
+        return "floquet" if self is Method.FLOQUET else "eigen"
+
+    @property
+    def periodic(self) -> bool:
+        """Whether the roots are Floquet exponents of periodic equations (each speed an
+        integration over a period) rather than eigenvalues of time-invariant ones."""
+        return self is Method.FLOQUET
+
+
+def time_invariant(case) -> Method | None:
+    """The eigen-analysis whose transform gives ``case`` constant coefficients, or None."""
+    if case.rotor.identical and case.rotor.n_blades >= 3:
+        return Method.MULTIBLADE
+    if case.body.isotropic:
+        return Method.ROTATING
+    return None
+
+
+def choose_method(case, option: str | None = None) -> Method:
+    """The analysis of ``case`` for a method option ("auto", "eigen" or "floquet"; None:
+    the case's own ``[sweep] method``).
+
+    Raises
+    ------
+    MethodError
+        For "eigen" on a case with periodic coefficients in every frame.
+    """
+    option = option or case.sweep.method
+    if option not in OPTIONS:
+        raise MethodError(f"method {option!r}: must be one of {list(OPTIONS)}")
+    if option == "floquet":
+        return Method.FLOQUET
+    form = time_invariant(case)
+    if option == "eigen" and form is None:
+        raise MethodError(
+            "[sweep] method = 'eigen': this case has periodic coefficients in every frame "
+            "(dissimilar blades or N = 2 on an anisotropic body), so it has no eigenvalues; "
+            "use 'floquet' or 'auto'"
+        )
+    return form or Method.FLOQUET
