@@ -156,7 +156,7 @@ def test_simulated_growth_matches_the_largest_exponent(speed):
     predicted = exponents.solve(system, np.array([speed]), harmonics=0).exponent.real.max()
     assert predicted > 0.05  # inside the unstable range: one mode dominates
     start = simulate.initial_state(system, {"x": 0.01, "y": 0.01, "lag1": 0.01})
-    run = simulate.simulate(system, speed, 40.0, start, rtol=1e-9)
+    run = simulate.integrate(system, speed, 40.0, start, rtol=1e-9)
     assert run.growth_rate() == pytest.approx(predicted, rel=0.01)
 
 

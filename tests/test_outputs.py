@@ -319,7 +319,7 @@ def test_simulation_reports_progress_in_simulated_seconds():
     system = System(case.rotor, case.body)
     calls = []
     initial = simulate.initial_state(system, {"x": 0.01})
-    simulate.simulate(system, 26.0, 2.0, initial, progress=lambda done, total: calls.append((done, total)))
+    simulate.integrate(system, 26.0, 2.0, initial, progress=lambda done, total: calls.append((done, total)))
     done = [d for d, _ in calls]
     assert 50 <= len(calls) <= 101 and all(total == 2.0 for _, total in calls)
     assert done == sorted(done) and 0 < done[0] and done[-1] <= 2.0

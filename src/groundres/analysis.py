@@ -22,12 +22,18 @@ import numpy as np
 
 from .assess import damping_search, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
+from .errors import MethodError, ParameterError
 from .methods import choose_method, time_invariant
 from .model.params import Case
+from .model.schema import load_case
+from .model.system import System
 from .model.units import SPEED_UNITS
 from .modes.identify import identify_solution
+from .results.comparison import Comparison, Entry, case_name, entry_details
+from .results.simulation import Simulation
 from .results.sweep import SweepResult
 from .solve.floquet.cost import lowest_periodic_speed
+from .solve.simulate import default_initial, initial_state, integrate, run_duration, settling_time
 from .solve.solvers import solver_for
 
 
@@ -155,4 +161,136 @@ def analyze(
         coordinates=solver.coordinates,
         weights=solver.weights(speeds),
         accuracy=accuracy,
+    )
+
+
+def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=None) -> Simulation:
+    """Integrate the periodic blade-coordinate equations of a case in time at one rotor speed.
+
+    The integration (:func:`groundres.solve.simulate.integrate`, SciPy's DOP853)
+    is independent of the eigen- and Floquet analyses: its measured growth rate
+    checks their largest real part, which the result carries beside it.
+
+    Parameters
+    ----------
+    case : Case
+    speed : float
+        Rotor speed [rad/s].
+    duration : float, optional
+        [s]; by default 40 revolutions, or longer (up to 400) until the least
+        stable root outgrows the next by e^8 (:func:`groundres.solve.simulate.run_duration`).
+    initial : dict, optional
+        Initial displacements [m, rad] and rates (``NAME_rate``) by coordinate
+        name ("x", "pitch", "lag1", "flap3", "roll_rate"); by default 0.01 on
+        every body coordinate and on lag1.
+    progress : callable, optional
+        ``progress(done, total)`` in simulated seconds, about every percent.
+
+    Returns
+    -------
+    Simulation
+        ``.plot()``, ``.to_xarray()``, ``.growth_rate()``
+        (:class:`groundres.results.simulation.Simulation`).
+
+    Raises
+    ------
+    ParameterError
+        A speed, duration or initial state that cannot be simulated (its message
+        says which and what is allowed).
+    ModelRangeError
+        Equations that overflow at that speed, or an integration that takes far
+        more steps than estimated.
+
+    Examples
+    --------
+    >>> sim = simulate(load_case("hammond-1974-one-damper"), 26.7, duration=30.0)  # doctest: +SKIP
+    >>> sim.growth_rate(), sim.predicted_growth  # doctest: +SKIP
+    """
+    if (
+        isinstance(speed, bool)
+        or not isinstance(speed, (int, float))
+        or not (np.isfinite(speed) and speed > 0)
+    ):
+        raise ParameterError("speed", speed, "must be a finite number > 0 [rad/s]")
+    unit = case.sweep.unit
+    factor = SPEED_UNITS[unit]
+    system = System.in_mass_unit(case.rotor, case.body)
+    resolution.check_representable(system, speed, "speed", (unit, factor))
+    values = default_initial(system) if initial is None else dict(initial)
+    q0, v0 = initial_state(system, values)
+    name = f"{speed / factor:g} {unit}"
+    given = duration
+    duration = run_duration(system, speed, duration, speed_name=name)
+    method = choose_method(case)
+    roots = np.asarray(solver_for(case, method).roots(speed)).ravel()
+    if given is None:  # (longer where the least stable root stands out slowly)
+        duration = run_duration(system, speed, None, settling_time(roots), speed_name=name)
+    history = integrate(system, speed, duration, (q0, v0), progress=progress, speed_text=name)
+    return Simulation(case, history, values, method, float(roots.real.max()))
+
+
+def compare(cases, methods=None, frame: str | None = None, progress=None) -> Comparison:
+    """Analyse every case by every method, for comparison with the first.
+
+    Parameters
+    ----------
+    cases : sequence of Case or str
+        Cases, or paths of case files or shipped case names.
+    methods : sequence of str, optional
+        "auto", "eigen" or "floquet" (:data:`groundres.methods.OPTIONS`) for each analysis
+        of each case [default:
+        each case's own]. The entries are the cases by the methods, case by
+        case: (case 1, method 1), (case 1, method 2), ..., (case 2, method 1).
+    frame : str, optional
+        "nonrotating" or "rotating" for every entry [default: each case's own].
+    progress : callable, optional
+        ``progress(entry, stage, done, total)``: ``entry`` the 1-based number,
+        the rest as :func:`groundres.analysis.analyze` reports.
+
+    Returns
+    -------
+    Comparison
+
+    Raises
+    ------
+    ParameterError
+        For fewer than two entries.
+    MethodError
+        For a method that cannot analyse an entry's case (the message names the entry).
+
+    Examples
+    --------
+    >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
+    >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
+    """
+    cases = [c if isinstance(c, Case) else load_case(c) for c in cases]
+    methods = list(methods) if methods else [None]
+    if len(cases) * len(methods) < 2:
+        raise ParameterError(
+            "cases",
+            len(cases),
+            f"{len(cases)} case(s) by {len(methods)} method(s) make one entry: a comparison needs two or "
+            "more (give two cases, or two methods)",
+        )
+    done = []  # (case, method, result): an entry asked twice is analysed once (identical results)
+    plan = []
+    for k, case in enumerate(cases):
+        for method in methods:
+            number = len(plan) + 1
+            same = next((r for c, m, r in done if c == case and c.text == case.text and m == method), None)
+            if same is None:
+                report = progress and (lambda stage, d, t, number=number: progress(number, stage, d, t))
+                try:
+                    same = analyze(case, frame=frame, method=method, progress=report)
+                except MethodError as err:  # (which entry could not be analysed so)
+                    asked = f" by method {method!r}" if method else ""
+                    raise MethodError(f"entry {number} ({case_name(case)}{asked}): {err}") from None
+                done.append((case, method, same))
+            plan.append((k, method, same))
+    details = entry_details([r for _, _, r in plan])
+    return Comparison(
+        tuple(
+            Entry(i + 1, case_name(cases[k]), detail, k, m, r)
+            for i, (detail, (k, m, r)) in enumerate(zip(details, plan))
+        )
     )

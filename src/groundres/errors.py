@@ -5,15 +5,13 @@ for the user. They share :class:`InputError`, which the command line turns
 into exit status 2 with that line and no traceback; any other exception is a
 failure of groundres itself (exit status 1).
 
-=====================  ==============================================================
-:class:`CaseError`     a case file that cannot be read or breaks the format
-:class:`ParameterError` a parameter value outside what the model allows (from Python)
-:class:`StudyError`    a study that cannot be set up (a varied key, a range, a store)
-:class:`MethodError`   a method that cannot analyse the case (eigen on periodic equations)
-:class:`ModelRangeError` a case the model cannot resolve in double precision, or too costly
-:class:`SpeedRangeError` a rotor speed too close to zero for a periodic analysis
-:class:`OutputFolderError` an output folder groundres will not replace
-=====================  ==============================================================
+- :class:`CaseError`: a case file that cannot be read or breaks the format;
+- :class:`ParameterError`: a parameter value outside what the model allows;
+- :class:`StudyError`: a study that cannot be set up (a varied key, a range, a store);
+- :class:`MethodError`: a method that cannot analyse the case (eigen on periodic equations);
+- :class:`ModelRangeError`: a case the model cannot resolve in double precision, or too costly;
+- :class:`SpeedRangeError`: a rotor speed too close to zero for a periodic analysis;
+- :class:`OutputFolderError`: an output folder groundres will not replace.
 """
 
 from __future__ import annotations

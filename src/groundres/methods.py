@@ -3,14 +3,14 @@
 A case is analysed by one of three methods, told apart by the transform that
 removes the periodic coefficients of its equations (see ``docs/conventions.md``):
 
-=========================  ==========  =========  ===========================================
-:class:`Method`            ``form``    ``option``  when
-=========================  ==========  =========  ===========================================
-``"multiblade-eigen"``     multiblade  eigen      identical blades, N >= 3: multiblade
-                                                  coordinates, any body
-``"rotating-eigen"``       rotating    eigen      otherwise an isotropic body, in rotating axes
-``"floquet"``              floquet     floquet    the equations are periodic in every frame
-=========================  ==========  =========  ===========================================
+- ``Method.MULTIBLADE``, ``"multiblade-eigen"`` (form multiblade, option eigen):
+  identical blades, N >= 3; multiblade coordinates make the equations
+  time-invariant for any body;
+- ``Method.ROTATING``, ``"rotating-eigen"`` (form rotating, option eigen):
+  otherwise an isotropic body, in rotating axes;
+- ``Method.FLOQUET``, ``"floquet"`` (form and option floquet): the equations
+  are periodic in every frame (dissimilar blades, or two blades, on an
+  anisotropic body).
 
 A Method's value is the name results and files store (``summary.json``'s
 ``method``); ``option`` is the ``[sweep] method`` (and ``--method``) that

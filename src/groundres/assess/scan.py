@@ -37,13 +37,15 @@ def probe_speeds(speeds, tuning=(), periodic: bool = False) -> np.ndarray:
     tuning : iterable of float
         Tuning speeds [rad/s]; those inside the sweep get a dense cluster.
     periodic : bool
-        A periodic (Floquet) analysis, whose every speed costs an integration:
-        sets the grid size (:data:`GRID`).
+        A periodic (Floquet) analysis, whose every speed costs an integration;
+        it sets the grid size (:data:`GRID`).
 
+    Notes
+    -----
     For a Floquet analysis no probe lies below half the first speed that
     turns (a periodic analysis just above rest is the costliest of the sweep);
-    a range open there is followed down by
-    :func:`groundres.assess.stability.find_ranges` within a work budget.
+    a range open there is followed down within a work budget
+    (:func:`groundres.assess.stability.find_ranges`).
     """
     speeds = np.asarray(speeds, dtype=float)
     lo, hi = speeds[0], speeds[-1]

@@ -23,21 +23,6 @@ from .common import (
 from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
 from .run import STAGES, warm_plotting
 
-#: The columns of differences.csv (speeds in rad/s, real parts in 1/s; tolerance in the row's unit).
-CSV_HEADER = [
-    "entry",
-    "name",
-    "quantity",
-    "range",
-    "unit",
-    "baseline",
-    "value",
-    "difference",
-    "note",
-    "tolerance",
-    "within_round_off",
-]
-
 
 @click.command("compare")
 @click.argument("cases", nargs=-1, required=True, metavar="CASE...")
@@ -76,8 +61,8 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
     case.toml (the first case), case-<k>.toml (the k-th CASE) and
     provenance.json into --out, replacing the folder whole.
     """
+    from ..analysis import compare
     from ..results import files, folders
-    from ..results.comparison import compare
 
     console = make_console()
     plot = {
@@ -110,9 +95,8 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
         rows = comparison.differences()
         with steps.step("Writing results"), folders.output_folder(out_dir) as folder:
             for entry in comparison.entries:
-                files.write_summary(entry.result, folder / f"summary-{entry.number}.json")
-            files.write_csv(folder / "differences.csv", CSV_HEADER, [_csv_row(r) for r in rows])
-            files.write_json(folder / "differences.json", _json(comparison, rows))
+                files.write_json(folder / f"summary-{entry.number}.json", entry.result.summary())
+            files.write_differences(comparison, folder, rows)
             warm.join()
             files.write_figure(comparison.plot(**plot), folder / f"compare.{fmt}")
             for k, case in enumerate(loaded[1:], start=2):
@@ -143,53 +127,6 @@ def _entry_record(entry, cases) -> dict:
         "frame": entry.result.frame,
         "summary": f"summary-{entry.number}.json",
         "accuracy": entry.result.accuracy or {},
-    }
-
-
-def _csv_row(row: dict) -> list:
-    """A row of differences.csv: numbers in full (repr), empty cells where there is none."""
-
-    def cell(v):
-        if v is None:
-            return ""
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        return repr(v + 0.0) if isinstance(v, float) else v
-
-    return [cell(row[key]) for key in CSV_HEADER]
-
-
-def _json(comparison, rows) -> dict:
-    from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
-    from ..results.comparison import (
-        PAIRING_NOTE,
-        PEAK_SPEED_ROUND_OFF,
-        QUANTITIES,
-        ROUND_OFF,
-        ROUND_OFF_NOTE,
-        SPEED_ROUND_OFF,
-    )
-
-    return {
-        "baseline": 1,
-        "entries": [
-            {"entry": e.number, "name": e.name, "case": e.case.source, "title": e.case.title}
-            | {"method": e.result.method, "frame": e.result.frame, "summary": f"summary-{e.number}.json"}
-            for e in comparison.entries
-        ],
-        "quantities": {key: {"meaning": m, "unit": u} for key, (m, u) in QUANTITIES.items()},
-        "note": PAIRING_NOTE,
-        "round_off": {
-            "note": ROUND_OFF_NOTE,
-            "tolerance": dict(ROUND_OFF),
-            "speed_relative": SPEED_ROUND_OFF,
-            "peak_speed_relative": PEAK_SPEED_ROUND_OFF,
-            "growth_threshold_per_radian": GROWTH_PER_RADIAN,
-            "growth_threshold_floor": GROWTH_FLOOR,
-        },
-        "differences": [
-            {k: v for k, v in r.items() if v is not None or k not in ("range", "note")} for r in rows
-        ],
     }
 
 

@@ -205,8 +205,9 @@ def deutsch_notes(summary: dict, sweep) -> list[str]:
     return [plain(n) for n in notes]
 
 
-def print_result(console, result, out_dir, fmt: str = "png") -> None:
-    summary = result.summary()
+def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> None:
+    """The terminal's account of a run: verdict, ranges, worst values, the lag damping
+    (``summary``: the result's :meth:`~groundres.results.sweep.SweepResult.summary`)."""
     sweep = result.case.sweep
     console.print(
         f"[bold]{plain(result.case.title)}[/bold]  "

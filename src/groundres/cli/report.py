@@ -140,14 +140,16 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
             from ..pages.report import report_page
 
             meta = invocation()
+            summary = result.summary()  # (once: on the page and in summary.json)
             html, pictures = report_page(
                 result,
+                summary=summary,
                 fmt=fmt,
                 study=study_dir,
                 command_line=shlex.join(["groundres", *meta["argv"]]),
                 plot=plot,
             )
-            files.write_summary(result, folder / "summary.json")
+            files.write_json(folder / "summary.json", summary)
             for file_name, data in pictures.items():
                 files.write_bytes(folder / file_name, data)
             files.write_text(folder / "index.html", html)

@@ -82,7 +82,8 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
         with steps.step("write"), folders.output_folder(out_dir) as folder:
-            _write_all(result, folder, plot, warm, fmt)
+            summary = result.summary()  # (once: written, and printed below)
+            _write_all(result, summary, folder, plot, warm, fmt)
             folders.write_provenance(
                 folder,
                 the_case,
@@ -92,7 +93,7 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
                 accuracy=result.accuracy,
                 **invocation(),
             )
-    print_result(console, result, out_dir, fmt)
+    print_result(console, result, summary, out_dir, fmt)
 
 
 def _import_plotting() -> None:
@@ -122,16 +123,17 @@ def warm_plotting() -> threading.Thread:
 
 
 def _write_all(
-    result, out_dir: Path, plot: dict, warm: threading.Thread | None = None, fmt: str = "png"
+    result, summary: dict, out_dir: Path, plot: dict, warm: threading.Thread | None = None, fmt: str = "png"
 ) -> None:
     """Write the four result files into ``out_dir`` (the picture last: its imports finish meanwhile).
 
+    ``summary``: the result's :meth:`~groundres.results.sweep.SweepResult.summary`, computed once.
     ``plot``: keyword arguments of :meth:`~groundres.results.sweep.SweepResult.plot`; ``fmt``: the
     picture's format (png, svg or pdf).
     """
     from ..results import files
 
-    files.write_summary(result, out_dir / "summary.json")
+    files.write_json(out_dir / "summary.json", summary)
     files.write_modes_csv(result, out_dir / "modes.csv")
     files.write_modes_netcdf(result, out_dir / "modes.nc")
     if warm is not None:

@@ -112,15 +112,16 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     """
     from ..results import files, folders
     from ..solve.parallel import CORES
-    from ..studies import study as studies
+    from ..studies import figure, store, study
+    from ..studies.grid import canonical, make_grid
 
     console = make_console()
     the_case = load(case)
-    grid = studies.make_grid(the_case, parse_vary(vary), failures)
+    grid = make_grid(the_case, parse_vary(vary), failures)
     if not out.strip():
         fail_user(f"--out {out!r}: empty; give a folder, e.g. --out study")
     out_dir = Path(out)
-    boundary = studies.canonical(boundary) if boundary is not None else None
+    boundary = canonical(boundary) if boundary is not None else None
     if boundary is not None and boundary not in grid.keys:
         fail_user(f"--boundary {boundary!r}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
@@ -137,15 +138,15 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     try:
         with _Progress(console, "Boundary lines" if boundary else "Grid points") as progress:
             if boundary is None:
-                ds = studies.study(the_case, values, failures, client, out_dir, progress)
+                ds = study.study(the_case, values, failures, client, out_dir, progress)
             else:
-                ds = studies.boundary(the_case, values, boundary, failures, client, progress)
+                ds = study.boundary(the_case, values, boundary, failures, client, progress)
     finally:
         _close(client)
     out_dir.mkdir(parents=True, exist_ok=True)
     if boundary is not None:
-        studies.write_netcdf(ds, out_dir / "boundary.nc")
-    files.write_figure(studies.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
+        store.write_netcdf(ds, out_dir / "boundary.nc")
+    files.write_figure(figure.plot(ds, the_case, grid), out_dir / f"map.{fmt}")
     for stale in MAP_FILES - {f"map.{fmt}"}:  # (a map of an earlier run in another format: not this study's)
         (out_dir / stale).unlink(missing_ok=True)
     folders.write_provenance(out_dir, the_case, command="study", **invocation())
@@ -157,14 +158,12 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
 
 
 def _client(scheduler, workers):
-    from ..studies.run import local_client
+    from ..studies.run import local_client, remote_client
 
     if scheduler is None:
         return local_client(workers)
-    from distributed import Client
-
     try:
-        return Client(scheduler, timeout="10s")
+        return remote_client(scheduler)
     except (OSError, TimeoutError, ValueError) as err:
         fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
 

@@ -293,6 +293,7 @@ def report_page(
     study: str | Path | None = None,
     command_line: str = "",
     plot: dict | None = None,
+    summary: dict | None = None,
 ) -> tuple[str, dict[str, bytes]]:
     """The HTML report of a :class:`~groundres.results.sweep.SweepResult`, and the pictures to
     write beside it.
@@ -300,11 +301,12 @@ def report_page(
     Returns ``(html, files)``: ``files`` maps file names (``coleman.<fmt>``,
     ``phasors.<fmt>``) to their bytes. The page embeds the pictures itself.
     ``plot``: keyword arguments of :meth:`~groundres.results.sweep.SweepResult.plot`
-    for the Coleman diagram (speed axis, limits, modes).
+    for the Coleman diagram (speed axis, limits, modes); ``summary``: the result's
+    :meth:`~groundres.results.sweep.SweepResult.summary`, where the caller has it.
     """
     case = result.case
     sweep = case.sweep
-    summary = result.summary()
+    summary = result.summary() if summary is None else summary
     coleman = picture(result.plot(**(plot or {})), fmt)
     phasors = phasor_section(result, summary, fmt)
     files = {f"coleman.{fmt}": coleman["bytes"]}

@@ -84,7 +84,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
     Parameters
     ----------
     ds : xarray.Dataset
-        A study (:func:`groundres.studies.study`).
+        A study (:func:`groundres.studies.study.study`).
     design : dict, optional
         The case's own value of each varied key: marked.
     deutsch : (lag_key, other_key, other_values, required), optional

@@ -61,11 +61,11 @@ def _fitted_line(time, amplitude, rate):
 
 
 def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_text=None):
-    """Plot a :class:`~groundres.solve.simulate.Simulation`.
+    """Plot a time history (:class:`~groundres.solve.simulate.TimeHistory`).
 
     Parameters
     ----------
-    sim : Simulation
+    sim : TimeHistory
     fig : matplotlib Figure, optional
     title : str
     growth, predicted : float, optional

@@ -3,8 +3,11 @@
 An entry is one case analysed by one method (and the frame asked for). The
 first entry is the baseline; :meth:`Comparison.differences` gives, for every
 other entry, how its unstable rotor-speed ranges and its largest real part
-differ from the baseline's. Wiring only: every number comes from
-:func:`groundres.analysis.analyze` and :class:`groundres.assess.stability.Stability`.
+differ from the baseline's (:meth:`Comparison.differences_table` and
+:meth:`Comparison.differences_record` are its files). Every number comes
+from :func:`groundres.analysis.analyze` and
+:class:`groundres.assess.stability.Stability`; :func:`groundres.analysis.compare`
+makes a comparison.
 
 Speeds are in rad/s and real parts in 1/s here (SI, the data contract); the
 command line and the figure speak the first case's unit.
@@ -66,6 +69,21 @@ ROUND_OFF = {
         "found to 1e-6 relative); where a largest real part is neutral its speed is no result"
     ),
 }
+
+#: The columns of differences.csv (speeds in rad/s, real parts in 1/s; tolerance in the row's unit).
+CSV_HEADER = [
+    "entry",
+    "name",
+    "quantity",
+    "range",
+    "unit",
+    "baseline",
+    "value",
+    "difference",
+    "note",
+    "tolerance",
+    "within_round_off",
+]
 
 #: What differences.json says of the tolerances.
 ROUND_OFF_NOTE = (
@@ -149,6 +167,50 @@ class Comparison:
             rows += _rows(entry, base, entry.result)
         return rows
 
+    def differences_table(self, rows=None) -> tuple[list[str], list[list]]:
+        """differences.csv: its header (:data:`CSV_HEADER`) and a row per difference, numbers
+        in full (repr), empty cells where there is none (``rows``: :meth:`differences`)."""
+
+        def cell(v):
+            if v is None:
+                return ""
+            if isinstance(v, bool):
+                return "true" if v else "false"
+            return repr(v + 0.0) if isinstance(v, float) else v
+
+        rows = self.differences() if rows is None else rows
+        return CSV_HEADER, [[cell(row[key]) for key in CSV_HEADER] for row in rows]
+
+    def differences_record(self, rows=None) -> dict:
+        """differences.json: the entries, what each quantity is, the round-off tolerances and
+        the differences (``rows``: :meth:`differences`)."""
+        rows = self.differences() if rows is None else rows
+        return {
+            "baseline": 1,
+            "entries": [
+                {"entry": e.number, "name": e.name, "case": e.case.source, "title": e.case.title}
+                | {
+                    "method": e.result.method.value,
+                    "frame": e.result.frame,
+                    "summary": f"summary-{e.number}.json",
+                }
+                for e in self.entries
+            ],
+            "quantities": {key: {"meaning": m, "unit": u} for key, (m, u) in QUANTITIES.items()},
+            "note": PAIRING_NOTE,
+            "round_off": {
+                "note": ROUND_OFF_NOTE,
+                "tolerance": dict(ROUND_OFF),
+                "speed_relative": SPEED_ROUND_OFF,
+                "peak_speed_relative": PEAK_SPEED_ROUND_OFF,
+                "growth_threshold_per_radian": GROWTH_PER_RADIAN,
+                "growth_threshold_floor": GROWTH_FLOOR,
+            },
+            "differences": [
+                {k: v for k, v in r.items() if v is not None or k not in ("range", "note")} for r in rows
+            ],
+        }
+
     def plot(
         self,
         fig=None,
@@ -177,78 +239,12 @@ class Comparison:
         )
 
 
-def compare(cases, methods=None, frame: str | None = None, progress=None) -> Comparison:
-    """Analyse every case by every method, for comparison with the first.
-
-    Parameters
-    ----------
-    cases : sequence of Case or str
-        Cases, or paths of case files or shipped case names.
-    methods : sequence of str, optional
-        "auto", "eigen" or "floquet" for each analysis of each case [default:
-        each case's own]. The entries are the cases by the methods, case by
-        case: (case 1, method 1), (case 1, method 2), ..., (case 2, method 1).
-    frame : str, optional
-        "nonrotating" or "rotating" for every entry [default: each case's own].
-    progress : callable, optional
-        ``progress(entry, stage, done, total)``: ``entry`` the 1-based number,
-        the rest as :func:`groundres.analysis.analyze` reports.
-
-    Returns
-    -------
-    Comparison
-
-    Raises
-    ------
-    ValueError
-        For fewer than two entries.
-
-    Examples
-    --------
-    >>> c = compare(["hammond-one-damper-isotropic"], methods=["eigen", "floquet"])  # doctest: +SKIP
-    >>> [(r["quantity"], r["difference"]) for r in c.differences()]  # doctest: +SKIP
-    """
-    from ..analysis import analyze
-    from ..errors import MethodError
-    from ..model.schema import load_case
-
-    cases = [c if isinstance(c, Case) else load_case(c) for c in cases]
-    methods = list(methods) if methods else [None]
-    if len(cases) * len(methods) < 2:
-        raise ValueError(
-            f"{len(cases)} case(s) by {len(methods)} method(s) make one entry: a comparison needs two or "
-            "more (give two cases, or two methods)"
-        )
-    done = []  # (case, method, result): an entry asked twice is analysed once (identical results)
-    plan = []
-    for k, case in enumerate(cases):
-        for method in methods:
-            number = len(plan) + 1
-            same = next((r for c, m, r in done if c == case and c.text == case.text and m == method), None)
-            if same is None:
-                report = progress and (lambda stage, d, t, number=number: progress(number, stage, d, t))
-                try:
-                    same = analyze(case, frame=frame, method=method, progress=report)
-                except MethodError as err:  # (which entry could not be analysed so)
-                    asked = f" by method {method!r}" if method else ""
-                    raise MethodError(f"entry {number} ({case_name(case)}{asked}): {err}") from None
-                done.append((case, method, same))
-            plan.append((k, method, same))
-    details = _details([r for _, _, r in plan])
-    return Comparison(
-        tuple(
-            Entry(i + 1, case_name(cases[k]), detail, k, m, r)
-            for i, (detail, (k, m, r)) in enumerate(zip(details, plan))
-        )
-    )
-
-
 def case_name(case: Case) -> str:
     """A short name of a case: its file's stem, the shipped case's name, or its title."""
     return Path(case.source).stem if case.source else case.title
 
 
-def _details(results) -> list[str]:
+def entry_details(results) -> list[str]:
     """What tells the entries apart beyond their case: method and frame, where they differ."""
     methods = {r.method for r in results}
     frames = {r.frame for r in results}

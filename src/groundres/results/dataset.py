@@ -14,26 +14,10 @@ import numpy as np
 from .._version import __version__
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 from ..model.body import TRANSLATIONS
+from ..model.units import BLADE_UNITS, BODY_UNITS, udunits
 from .summary import open_below_note
 
 CONVENTIONS = "CF-1.10"
-
-BLADE_UNITS = {
-    "blade_mass": "kg",
-    "blade_static_moment": "kg m",
-    "blade_inertia": "kg m2",
-    "hinge_offset": "m",
-    "lag_stiffness": "N m/rad",
-    "lag_damping": "N m s/rad",
-    "flap_stiffness": "N m/rad",
-    "flap_damping": "N m s/rad",
-}
-_BODY_UNITS = {  # (translation, rotation)
-    "mass": ("kg", "kg"),
-    "inertia": ("kg m2", "kg m2"),
-    "stiffness": ("N/m", "N m/rad"),
-    "damping": ("N s/m", "N m s/rad"),
-}
 
 
 def coordinate_unit(coordinate) -> str:
@@ -62,16 +46,20 @@ def case_attributes(case) -> dict:
     for key, units in BLADE_UNITS.items():
         if key.startswith("flap") and not rotor.flap:
             continue
-        put(f"rotor_{key}", np.array([getattr(b, key) for b in rotor.blades], float), units)
+        put(f"rotor_{key}", np.array([getattr(b, key) for b in rotor.blades], float), udunits(units))
     put("body_dofs", " ".join(body.dofs))
     put("body_form", body.form)
     if body.form == "modal":
         for dof in body.dofs:
             key = body.inertia_key(dof)
             turns = dof not in TRANSLATIONS
-            put(f"body_{key}", float(getattr(body, key)), _BODY_UNITS[key.split("_")[0]][turns])
+            put(f"body_{key}", float(getattr(body, key)), udunits(BODY_UNITS[key.split("_")[0]][turns]))
             for kind in ("stiffness", "damping"):
-                put(f"body_{kind}_{dof}", float(getattr(body, f"{kind}_{dof}")), _BODY_UNITS[kind][turns])
+                put(
+                    f"body_{kind}_{dof}",
+                    float(getattr(body, f"{kind}_{dof}")),
+                    udunits(BODY_UNITS[kind][turns]),
+                )
     else:
         put("body_mass", float(body.mass), "kg")
         put("body_inertia_tensor", body.inertia_tensor().ravel(), "kg m2")

@@ -11,7 +11,9 @@ result files:
   ``speed [rad/s]``, ``mode``, ``frequency [rad/s]`` (in the result's frame),
   ``real_part [1/s]``, ``damping_ratio [-]``;
 * ``modes.nc``: the same as a NetCDF-4 data set (CF conventions) with dims
-  ``speed``, ``mode`` (see :mod:`groundres.results.dataset`).
+  ``speed``, ``mode`` (see :mod:`groundres.results.dataset`);
+* ``simulation.csv``: a time history, one row per instant;
+* ``differences.csv`` and ``differences.json``: how the entries of a comparison differ.
 """
 
 from __future__ import annotations
@@ -104,10 +106,6 @@ def write_json(path: str | Path, obj) -> None:
     write_text(path, json_text(obj))
 
 
-def write_summary(result, path: str | Path) -> None:
-    write_json(path, result.summary())
-
-
 def csv_text(header, rows) -> str:
     """CSV text; floats with ten significant digits (-0 written as 0)."""
     buf = _io.StringIO()
@@ -136,6 +134,21 @@ def write_modes_csv(result, path: str | Path) -> None:
         for j, label in enumerate(result.labels)
     )
     write_csv(path, MODES_CSV_HEADER, rows)
+
+
+def write_simulation_csv(simulation, path: str | Path) -> None:
+    """simulation.csv: ``time [s]`` and each coordinate's displacement, its unit in the header
+    (:meth:`groundres.results.simulation.Simulation.column_names`)."""
+    rows = np.column_stack([simulation.time, simulation.displacement])
+    write_csv(path, ["time [s]", *simulation.column_names()], rows)
+
+
+def write_differences(comparison, folder: str | Path, rows=None) -> None:
+    """differences.csv and differences.json of a comparison
+    (:meth:`groundres.results.comparison.Comparison.differences_table` and ``differences_record``)."""
+    rows = comparison.differences() if rows is None else rows
+    write_csv(Path(folder) / "differences.csv", *comparison.differences_table(rows))
+    write_json(Path(folder) / "differences.json", comparison.differences_record(rows))
 
 
 def write_modes_netcdf(result, path: str | Path) -> None:

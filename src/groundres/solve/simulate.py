@@ -6,6 +6,12 @@ polynomials of degree two in Omega t, so the full-system harmonic matrices are
 formed once and the right-hand side only adds five matrices and solves with M.
 This is independent of the Floquet integrator; its measured growth rate is the
 check of the largest Floquet exponent that engineers believe.
+
+How long to run (:func:`run_duration`): 40 revolutions, or longer (up to
+400) until the least stable root outgrows the next by e^8, and never more
+integration steps than :data:`MAX_STEPS` (estimated before integrating,
+:func:`estimate_steps`). :func:`groundres.analysis.simulate` runs it for a
+case and returns a :class:`groundres.results.simulation.Simulation`.
 """
 
 from __future__ import annotations
@@ -15,13 +21,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..errors import ModelRangeError
+from ..errors import ModelRangeError, ParameterError
 from ..model.system import System
 
 
 @dataclass
-class Simulation:
-    """A time history.
+class TimeHistory:
+    """The motion :func:`integrate` found.
 
     Attributes
     ----------
@@ -77,7 +83,7 @@ def harmonic_matrices(system: System, speed: float) -> np.ndarray:
     return np.einsum("hj,gjab->ghab", np.linalg.inv(basis), values)
 
 
-def simulate(
+def integrate(
     system: System,
     speed: float,
     duration: float,
@@ -161,7 +167,16 @@ def simulate(
     )
     if not sol.success:
         raise RuntimeError(f"time integration failed: {sol.message}")
-    return Simulation(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed), rtol, float(atol))
+    return TimeHistory(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed), rtol, float(atol))
+
+
+#: The default initial disturbance [m, rad]: every body coordinate and blade 1's lag.
+DISTURBANCE = 0.01
+
+
+def default_initial(system: System) -> dict:
+    """The default initial state: :data:`DISTURBANCE` on every body coordinate and on lag1."""
+    return {d: DISTURBANCE for d in system.body.dofs} | {"lag1": DISTURBANCE}
 
 
 def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -169,16 +184,23 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
 
     Raises
     ------
-    KeyError
-        For a name that is not a coordinate of the system (message lists the names).
+    ParameterError
+        For a name that is not a coordinate of the system (the message lists the
+        names), a value that is not a finite number, or values that are all zero.
     """
     names = [c.name if c.kind == "body" else f"{c.kind}{c.name}" for c in system.coordinates]
     q0, v0 = np.zeros(system.size), np.zeros(system.size)
     for key, value in values.items():
         base, rate = (key[:-5], True) if key.endswith("_rate") else (key, False)
         if base not in names:
-            raise KeyError(f"{key!r}: not a coordinate; use one of {', '.join(names)} (or NAME_rate)")
+            raise ParameterError(
+                "initial", key, f"not a coordinate; use one of {', '.join(names)} (or NAME_rate)"
+            )
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+            raise ParameterError("initial", {key: value}, "each value must be a finite number [m, rad]")
         (v0 if rate else q0)[names.index(base)] = value
+    if not (q0.any() or v0.any()):
+        raise ParameterError("initial", dict(values), "every value is zero, so nothing would move")
     return q0, v0
 
 
@@ -227,3 +249,99 @@ def estimate_steps(system: System, speed: float, duration: float) -> float:
     """Integration steps :func:`simulate` is expected to take over ``duration`` [s] (``inf`` if unbounded)."""
     with np.errstate(all="ignore"):
         return float(duration * fastest_rate(system, speed) / (2 * np.pi) * STEPS_PER_PERIOD)
+
+
+#: A default run lasts at least this many revolutions, at most MOST_REVOLUTIONS.
+LEAST_REVOLUTIONS, MOST_REVOLUTIONS = 40, 400
+#: e-folds by which the least stable root outgrows the next over the second half of a default run.
+SETTLE = 8.0
+
+
+def settling_time(roots) -> float:
+    """Time [s] over which the least stable of ``roots`` outgrows the next distinct one by
+    e^SETTLE (the growth rate is measured over the run's second half: twice that); inf if they tie."""
+    real = np.sort(np.asarray(roots).real.ravel())[::-1]
+    scale = max(np.abs(real).max(), 1e-300)
+    below = real[real < real[0] - 1e-9 * scale]
+    return 2 * SETTLE / (real[0] - below[0]) if len(below) else float("inf")
+
+
+def run_duration(system: System, speed: float, duration: float | None, settle=0.0, speed_name=None) -> float:
+    """How long to integrate [s]: ``duration``, or by default LEAST_REVOLUTIONS, longer (up to
+    MOST_REVOLUTIONS) where the least stable root takes ``settle`` [s] to stand out
+    (:func:`settling_time`), once it is long enough to measure growth and short enough to run.
+
+    The integration steps are estimated before integrating (:func:`estimate_steps`); a
+    run over :data:`MAX_STEPS` is refused, saying what to change; a longer default than
+    LEAST_REVOLUTIONS is shortened to fit. ``speed_name`` names the speed in messages
+    (its case's unit; rad/s by default).
+
+    Raises
+    ------
+    ParameterError
+        Naming ``speed`` or ``duration``: a duration that is not a finite number > 0,
+        shorter than :data:`MIN_REVOLUTIONS` or too long to integrate; a speed too
+        slow or too fast to simulate, or at which no run that measures growth fits.
+    """
+    at_speed = f"at {speed_name or f'{speed:.4g} rad/s'}"
+    given = duration is not None
+    if given and not (isinstance(duration, (int, float)) and np.isfinite(duration) and duration > 0):
+        raise ParameterError("duration", duration, "must be a finite number > 0 [s]")
+    revolution = 2 * np.pi / speed
+    if not np.isfinite(LEAST_REVOLUTIONS * revolution):
+        raise ParameterError(
+            "speed", speed, f"too slow to simulate (a revolution would last {revolution:.3g} s)"
+        )
+    shortest = MIN_REVOLUTIONS * revolution
+    if given and duration < shortest:
+        raise ParameterError(
+            "duration",
+            duration,
+            f"must be at least {MIN_REVOLUTIONS} revolutions ({shortest:.4g} s {at_speed}), over whose "
+            "second half the growth rate is measured",
+        )
+    if not given:
+        duration = min(max(LEAST_REVOLUTIONS * revolution, settle), MOST_REVOLUTIONS * revolution)
+    rate = fastest_rate(system, speed)
+    if not np.isfinite(rate):
+        raise ParameterError(
+            "speed",
+            speed,
+            f"too fast to simulate: the equations' coefficients, which grow as the speed squared, exceed "
+            f"{LARGEST_COEFFICIENT:.0e} (the integration squares them)",
+        )
+    per_second = rate / (2 * np.pi) * STEPS_PER_PERIOD
+    steps = estimate_steps(system, speed, duration)
+    if not given and steps > MAX_STEPS and duration > LEAST_REVOLUTIONS * revolution:
+        # (a longer default than LEAST_REVOLUTIONS only as far as the step limit allows)
+        duration = max(LEAST_REVOLUTIONS * revolution, duration * MAX_STEPS / steps)
+        steps = estimate_steps(system, speed, duration)
+    if steps <= MAX_STEPS:
+        return float(duration)
+    cost = (
+        f"would take about {steps:.2g} integration steps (fastest motion {rate:.4g} rad/s, about "
+        f"{STEPS_PER_PERIOD} steps a period), over the limit of {MAX_STEPS}"
+    )
+    longest = MAX_STEPS / per_second
+    run = (
+        f"a run of {duration:.4g} s"
+        if given
+        else (f"the default run of {duration / revolution:.0f} revolutions ({duration:.4g} s)")
+    )
+    if longest < shortest:
+        raise ParameterError(
+            "speed",
+            speed,
+            f"{run} {cost}; even the shortest run that measures a growth rate "
+            f"({MIN_REVOLUTIONS} revolutions, {shortest:.4g} s) is too long {at_speed}: "
+            "choose a higher speed",
+        )
+    if given:
+        raise ParameterError(
+            "duration", duration, f"{at_speed} this run {cost}; at most {longest:.4g} s fits"
+        )
+    raise ParameterError(
+        "speed",
+        speed,
+        f"{run} {cost}; choose a shorter run, of at most {longest:.4g} s",
+    )

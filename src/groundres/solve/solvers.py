@@ -138,6 +138,14 @@ class _TimeInvariant(Solver):
         mats = self.form(np.atleast_1d(speeds))
         return modal.block_eigenvalues(*mats, self._blocks(mats))
 
+    def sweep(self, speeds, progress=None):
+        """Eigenvalues and eigenvectors of the form at ``speeds``, tracked along branches."""
+        mats = self.form(speeds)
+        solution = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
+        if progress is not None:
+            progress(len(speeds), len(speeds))
+        return solution
+
     def real_parts(self, speeds):
         """Real parts of all roots [1/s] at each speed, from the fitted matrices (batched)."""
         speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
@@ -171,13 +179,6 @@ class Multiblade(_TimeInvariant):
     def form(self, speeds):
         return self.system.multiblade(speeds)
 
-    def sweep(self, speeds, progress=None):
-        mats = self.system.multiblade(speeds)
-        solution = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
-        if progress is not None:
-            progress(len(speeds), len(speeds))
-        return solution
-
     def with_lag_damping(self, value, in_unit=False):
         new = super().with_lag_damping(value, in_unit)
         new.blocks = self.blocks
@@ -195,10 +196,8 @@ class Rotating(_TimeInvariant):
         return self.system.rotating_axes(speeds)
 
     def sweep(self, speeds, progress=None):
-        mats = self.system.rotating_axes(speeds)
-        raw = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
-        if progress is not None:
-            progress(len(speeds), len(speeds))
+        """As :meth:`_TimeInvariant.sweep`, the motion's harmonics seen from nonrotating axes."""
+        raw = super().sweep(speeds, progress)
         # one period of the motion seen from nonrotating axes: body axes turned by psi
         phase = 2 * np.pi * np.arange(self.samples) / self.samples
         q = np.broadcast_to(raw.vector, (self.samples,) + raw.vector.shape).copy()

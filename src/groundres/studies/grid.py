@@ -211,7 +211,7 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
                     f"--vary {key}: blade {entry[1]} does not exist (blades = {data['rotor']['blades']})"
                 )
         elif entry:
-            count = len(_tables(data, entry[0]))
+            count = len(table_of(data, entry[0]))
             if not 1 <= entry[1] <= count:
                 raise StudyError(
                     f"--vary {key}: the case has {count} [[{entry[0]}]] table{'s' if count != 1 else ''}, "
@@ -266,7 +266,7 @@ def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str
         if entry and entry[0] in _NAMED_BY:
             _blade_table(data, entry[1])[entry[2]] = number
         elif entry:
-            _tables(data, entry[0])[entry[1] - 1][entry[2]] = number
+            table_of(data, entry[0])[entry[1] - 1][entry[2]] = number
         else:
             table, _, name = key.rpartition(".")
             data.setdefault(table, {})[name] = number
@@ -283,7 +283,7 @@ def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str
     return parse_case(data, source)
 
 
-def _tables(data: dict, table: str) -> list:
+def table_of(data: dict, table: str) -> list:
     """The case's entries of a repeated table (a list, empty where it has none)."""
     parent, _, name = table.rpartition(".")
     return data.get(parent, {}).get(name, [])

@@ -179,6 +179,14 @@ def local_client(workers: int):
     return Client(cluster)
 
 
+def remote_client(address: str):
+    """A client of the Dask cluster whose scheduler listens at ``address`` (e.g.
+    tcp://host:8786); OSError, TimeoutError or ValueError where none is reached."""
+    from distributed import Client
+
+    return Client(address, timeout="10s")
+
+
 @contextlib.contextmanager
 def _workers_ignore_ctrl_c():
     """Start processes with SIGINT ignored (a Python started so keeps ignoring it): Ctrl-C

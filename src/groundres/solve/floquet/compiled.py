@@ -13,7 +13,7 @@ product of an n x 2n block with a 2n x 2n matrix; nothing is formed twice.
 Error control comes from the method's embedded estimators (the fifth- and
 third-order solutions of DOP853, combined as by Hairer, Norsett and Wanner
 1993, "Solving Ordinary Differential Equations I", section II.10): the
-estimate of each step's local error, relative to max(1, |Phi|), is summed
+estimate of each step's local error, relative to max(1, ``|Phi|``), is summed
 over the interval. No second integration is made.
 
 NumPy's per-call overhead dominates for matrices of 10-40 states, so the
@@ -39,13 +39,8 @@ import stat
 import numpy as np
 
 from ..parallel import CORES, map_threads
-from . import _dop853
 from .coefficients import halves as block_halves
-
-#: Weights of the embedded fifth- and third-order error estimators of DOP853
-#: (the difference of the eighth-order weights and theirs), on the twelve stages.
-E5 = np.array(_dop853.E5)
-E3 = np.array(_dop853.E3)
+from .tableau import DOP8_E3, DOP8_E5
 
 
 def cache_folder() -> str | None:
@@ -91,7 +86,7 @@ def _propagate(nodes, coef, halves, h, a, b, e5, e3, restart, out, err):  # prag
     restart : each part from the identity (else from the start of the interval);
     out : (n_s, parts, m, m) written; err : (n_s,) written: the sum over the
     steps of the embedded estimate of each step's error, relative to
-    max(1, |Phi|).
+    max(1, ``|Phi|``).
 
     The stages are kept flat, (stages, m m), so that a stage's value
     Phi + h sum_j a_ij K_j, the step's update and its two error estimates
@@ -233,10 +228,10 @@ def kernel(wait: bool = False):
 
 def _warm(dispatcher, marker):
     """Compile (or load) the kernel by one small call, then mark it ready."""
-    nodes, coef = np.zeros((2, len(E5), 1, 5)), np.ones((1, 5))
+    nodes, coef = np.zeros((2, len(DOP8_E5), 1, 5)), np.ones((1, 5))
     halves = np.array([0, 1, 0, 1, 0], dtype=np.int64)
-    a, b = np.zeros((len(E5), len(E5))), np.zeros(len(E5))
-    dispatcher(nodes, coef, halves, 0.1, a, b, E5, E3, True, np.empty((1, 1, 2, 2)), np.empty(1))
+    a, b = np.zeros((len(DOP8_E5), len(DOP8_E5))), np.zeros(len(DOP8_E5))
+    dispatcher(nodes, coef, halves, 0.1, a, b, DOP8_E5, DOP8_E3, True, np.empty((1, 1, 2, 2)), np.empty(1))
     with open(marker, "w") as f:
         f.write("compiled\n")
 
@@ -317,7 +312,7 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     out : ndarray (parts, n_s, 2n, 2n)
         Transition matrix of y = [q; dq/dpsi] over each part (or up to its end).
     error : ndarray (n_s,)
-        Sum of the steps' estimated errors, relative to max(1, |Phi|).
+        Sum of the steps' estimated errors, relative to max(1, ``|Phi|``).
     """
     nodes = np.ascontiguousarray(nodes, dtype=float)
     coef = np.ascontiguousarray(coef, dtype=float)
@@ -332,7 +327,19 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
 
     def task(chunk):
         i0, i1 = chunk
-        compiled(nodes, coef[i0:i1], halves, float(h), a, b, E5, E3, not cumulative, out[i0:i1], err[i0:i1])
+        compiled(
+            nodes,
+            coef[i0:i1],
+            halves,
+            float(h),
+            a,
+            b,
+            DOP8_E5,
+            DOP8_E3,
+            not cumulative,
+            out[i0:i1],
+            err[i0:i1],
+        )
 
     map_threads(task, chunks)
     return np.swapaxes(out, 0, 1), err

@@ -1,0 +1,186 @@
+"""The house holds its shape: layers whose imports point one way, no circles, no re-exports.
+
+The package's folders follow the work (docs/develop.md, "Layout"): each layer
+may import its own and the layers below it, never one above. Every import is
+read from the source (module level and inside functions alike), so a lazy
+import that points up fails too.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import groundres
+
+PACKAGE = Path(groundres.__file__).parent
+
+#: Layers from the ground up; a module may import only from its own layer and those below.
+#: (plotting sits below results: a result's .plot() hands its data to plotting/.)
+LAYERS = [
+    ("core", {"_version", "errors", "methods"}),
+    ("symbolic", {"symbolic"}),
+    ("model", {"model"}),
+    ("solve", {"solve"}),
+    ("modes", {"modes"}),
+    ("assess", {"assess"}),
+    ("plotting", {"plotting"}),
+    ("results", {"results"}),
+    ("pipeline", {"analysis"}),
+    ("studies and pages", {"studies", "pages"}),
+    ("cli", {"cli"}),
+]
+LEVEL = {part: level for level, (_, parts) in enumerate(LAYERS) for part in parts}
+#: Third-party packages the numeric layers (core to assess) must not import.
+PRESENTATION = ("matplotlib", "dask", "distributed", "click", "rich", "jinja2")
+NUMERIC = {"core", "symbolic", "model", "solve", "modes", "assess"}
+#: A module longer than this should be split by concept (docs/develop.md).
+MAX_LINES = 500
+
+
+def modules():
+    """(dotted name relative to groundres, path) of every module of the package."""
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = list(path.relative_to(PACKAGE).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield ".".join(parts), path
+
+
+def imports(name: str, path: Path):
+    """(target, line) of every import in the module: groundres modules as dotted names
+    relative to the package, other packages by their top-level name."""
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                top = alias.name.split(".")[0]
+                yield (alias.name.removeprefix("groundres.") if top == "groundres" else top), node.lineno
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            elif node.module.split(".")[0] == "groundres":
+                target = node.module.removeprefix("groundres").lstrip(".")
+            else:
+                yield node.module.split(".")[0], node.lineno
+                continue
+            if not node.module:  # from . import a, b: each a module
+                for alias in node.names:
+                    yield ".".join(filter(None, [target, alias.name])), node.lineno
+            else:
+                yield target, node.lineno
+
+
+def layer_of(name: str) -> int | None:
+    return LEVEL.get(name.split(".")[0]) if name else None
+
+
+INTERNAL = {name for name, _ in modules()}
+
+
+def test_every_module_has_a_layer():
+    lost = [name for name in INTERNAL if name and layer_of(name) is None]
+    assert not lost, f"modules on no layer (add them to LAYERS and docs/develop.md): {lost}"
+
+
+@pytest.mark.parametrize("name, path", list(modules()), ids=lambda x: x if isinstance(x, str) else "")
+def test_imports_point_down(name, path):
+    if not name:  # (groundres/__init__.py loads the public API by name, on first use)
+        return
+    mine = layer_of(name)
+    up = []
+    for target, line in imports(name, path):
+        if target in INTERNAL or target.rsplit(".", 1)[0] in INTERNAL:
+            level = layer_of(target)
+            if level is not None and level > mine:
+                up.append(f"line {line}: {target} ({LAYERS[level][0]})")
+        elif LAYERS[mine][0] in NUMERIC and target in PRESENTATION:
+            up.append(f"line {line}: {target} (presentation)")
+    assert not up, f"{name} ({LAYERS[mine][0]}) imports from above: {up}"
+
+
+def test_only_studies_know_dask():
+    users = {
+        name
+        for name, path in modules()
+        for target, _ in imports(name, path)
+        if target in ("dask", "distributed") and name
+    }
+    assert users and all(name.startswith("studies.") for name in users), users
+
+
+def test_no_import_cycles():
+    graph = {name: set() for name in INTERNAL}
+    for name, path in modules():
+        for target, _ in imports(name, path):
+            if target in INTERNAL and target != name:
+                graph[name].add(target)
+            elif target.rsplit(".", 1)[0] in INTERNAL:  # (from module import name)
+                graph[name].add(target.rsplit(".", 1)[0])
+    for name in graph:  # a package's __init__ is imported with any of its modules: not a cycle
+        graph[name] = {t for t in graph[name] if not name.startswith(t + ".") and t != ""}
+    seen, stack, cycles = {}, [], []
+
+    def visit(node):
+        seen[node] = "open"
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if seen.get(nxt) == "open":
+                cycles.append(stack[stack.index(nxt) :] + [nxt])
+            elif nxt not in seen:
+                visit(nxt)
+        stack.pop()
+        seen[node] = "done"
+
+    for node in sorted(graph):
+        if node not in seen:
+            visit(node)
+    assert not cycles, f"import cycles: {cycles}"
+
+
+@pytest.mark.parametrize("name, path", list(modules()), ids=lambda x: x if isinstance(x, str) else "")
+def test_modules_stay_small_and_define_what_they_hold(name, path):
+    text = path.read_text(encoding="utf-8")
+    assert text.count("\n") <= MAX_LINES, f"{name}: {text.count(chr(10))} lines; split it by concept"
+    tree = ast.parse(text)
+    body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+    defines = [n for n in body if not isinstance(n, (ast.Import, ast.ImportFrom))]
+    if path.name == "__init__.py" and name not in ("", "cli"):  # (a folder: its docstring says what it holds)
+        assert not body, f"{name}/__init__.py holds more than its docstring"
+        return
+    assert defines, f"{name} only imports: a module that re-exports another's names"
+
+
+@pytest.mark.parametrize("name, path", list(modules()), ids=lambda x: x if isinstance(x, str) else "")
+def test_no_module_hands_on_names_it_imports(name, path):
+    """A name imported at module level is used there (no "re-exported for callers")."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    used = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+    exported = set()
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "__all__" for t in node.targets):
+            exported |= {e.value for e in ast.walk(node.value) if isinstance(e, ast.Constant)}
+    unused = [
+        alias.asname or alias.name
+        for node in tree.body
+        if isinstance(node, ast.ImportFrom) and node.module != "__future__"
+        for alias in node.names
+        if (alias.asname or alias.name) not in used | exported
+    ]
+    assert not unused, f"{name} imports {unused} without using them"
+
+
+def test_import_groundres_stays_light():
+    """The public API loads on first use: importing the package (or its core) pulls in
+    neither SymPy, matplotlib, the CLI library nor Dask."""
+    heavy = ("sympy", "matplotlib", "click", "dask", "distributed")
+    code = (
+        f"import sys, groundres, groundres.analysis; print(sorted(m for m in {heavy!r} if m in sys.modules))"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert proc.stdout.strip() == "[]"
