@@ -14,7 +14,7 @@ import numpy as np
 from .._version import __version__
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 from ..model.body import TRANSLATIONS
-from ..model.units import BLADE_UNITS, BODY_UNITS, udunits
+from ..model.units import BLADE_UNITS, BODY_UNITS, ROD_UNITS, udunits
 from .summary import open_below_note
 
 CONVENTIONS = "CF-1.10"
@@ -64,7 +64,11 @@ def case_attributes(case) -> dict:
         put("body_mass", float(body.mass), "kg")
         put("body_inertia_tensor", body.inertia_tensor().ravel(), "kg m2")
         put("body_centre_of_mass", np.array([body.centre_x, body.centre_y, body.centre_z]), "m")
-        for kind, units in (("position", "m"), ("stiffness", "N/m"), ("damping", "N s/m")):
+        for kind, units in (
+            ("position", "m"),
+            ("stiffness", BODY_UNITS["stiffness"][0]),
+            ("damping", BODY_UNITS["damping"][0]),
+        ):
             values = [[getattr(leg, f"{kind}_{a}") for a in "xyz"] for leg in body.gear]
             put(f"body_gear_{kind}", np.array(values, float).ravel(), units)
     put("body_hub", np.array([body.hub_x, body.hub_y, body.hub_height], float), "m")
@@ -73,8 +77,12 @@ def case_attributes(case) -> dict:
     if rotor.dampers:
         put("rotor_damper_kind", " ".join(d.kind for d in rotor.dampers))
         put("rotor_damper_blade", np.array([d.blade for d in rotor.dampers], np.int32))
-        put("rotor_damper_damping", np.array([d.damping for d in rotor.dampers], float), "N s/m")
-        put("rotor_damper_stiffness", np.array([d.stiffness for d in rotor.dampers], float), "N/m")
+        put("rotor_damper_damping", np.array([d.damping for d in rotor.dampers], float), ROD_UNITS["damping"])
+        put(
+            "rotor_damper_stiffness",
+            np.array([d.stiffness for d in rotor.dampers], float),
+            ROD_UNITS["stiffness"],
+        )
         for end in ("start", "end"):
             values = [[getattr(d, f"{end}_{a}") for a in "xyz"] for d in rotor.dampers]
             put(f"rotor_damper_{end}", np.array(values, float).ravel(), "m")

@@ -16,6 +16,7 @@ from ..assess.damping_search import RTOL
 from ..assess.deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 from ..model.system import searched
+from ..model.units import BLADE_UNITS, ROD_UNITS
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -79,7 +80,7 @@ def no_exact_reason(result, speed) -> str:
             f"the sweep is unstable below {speed(value)} (half the lowest body frequency), where the "
             "regressive lag mode meets no body mode: lag damping does not decide stability there"
         )
-    unit = "N s/m" if searched(result.case.rotor) == "rods" else "N m s/rad"
+    unit = searched_unit(result.case.rotor)
     upto = f" {value:.4g} {unit}" if value is not None else " the largest tried"
     speeds = result.rotor_speed
     undamped = [
@@ -100,6 +101,12 @@ def no_exact_reason(result, speed) -> str:
         f"no lag damping up to{upto} (the largest the search tries: many times the Deutsch value "
         "and the installed damper) makes the sweep stable with the installed body damping"
     )
+
+
+def searched_unit(rotor) -> str:
+    """The unit of the damper a lag damping search sizes on ``rotor``
+    (:func:`groundres.model.system.searched`): a rod's along it, or a blade's rotational one."""
+    return ROD_UNITS["damping"] if searched(rotor) == "rods" else BLADE_UNITS["lag_damping"]
 
 
 def _lag_frequency_at(rotor, speed) -> dict:
@@ -185,10 +192,10 @@ def summary(result) -> dict:
             {"kind": d.kind, "blade": d.blade, "damping": float(d.damping), "stiffness": float(d.stiffness)}
             for d in rods
         ]
-        lag["rods_unit"] = {"damping": "N s/m", "stiffness": "N/m"}
+        lag["rods_unit"] = dict(ROD_UNITS)
     on_rods = searched(case.rotor) == "rods"
     lag["exact_minimum_searched"] = "damper rods" if on_rods else "blade lag dampers"
-    lag["exact_minimum_unit"] = "N s/m" if on_rods else "N m s/rad"
+    lag["exact_minimum_unit"] = searched_unit(case.rotor)
     put(lag, "exact_minimum", result.exact_lag_damping, no_exact_reason(result, lambda w: f"{w:.6g} rad/s"))
     lag["exact_minimum_relative_tolerance"] = RTOL[result.method.option]
     lag["exact_minimum_note"] = (
