@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from conftest import HAMMOND_TOML
 from groundres.cli import main
 from groundres.model.schema import load_case
-from groundres.pages import gallery, verdicts
+from groundres.pages import figures, verdicts
 
 
 def cli(*args):
@@ -256,8 +256,8 @@ def test_smeared_case_averages_the_dampers():
 def test_every_figure_has_a_shipped_case_and_phasor_speeds_in_its_unit():
     from groundres.model.casefile import shipped_cases
 
-    assert gallery.NUMBERS == tuple(range(3, 14))
-    for f in gallery.FIGURES:
+    assert figures.NUMBERS == tuple(range(3, 14))
+    for f in figures.FIGURES:
         assert f.case in shipped_cases()
         assert (len(f.speeds) == 3) == (f.kind == "phasors")
         if f.ranges is not None:
@@ -275,9 +275,9 @@ def test_gallery_whole(tmp_path):
     check_self_contained(facts)
     data = json.loads((out / "gallery.json").read_text())
     check_numbers(facts, data)
-    figures = {f["number"]: f for f in data["figures"]}
-    assert sorted(figures) == list(range(3, 14))
-    for n, f in figures.items():
+    by_number = {f["number"]: f for f in data["figures"]}
+    assert sorted(by_number) == list(range(3, 14))
+    for n, f in by_number.items():
         assert f["verdict"] in ("agrees", "agrees in kind", "differs", "nothing to compare")
         assert f["reason"] and f["computed"]
         assert f"figure-{n}" in facts.ids
@@ -287,25 +287,30 @@ def test_gallery_whole(tmp_path):
     for n in range(11, 14):
         assert {f"figure-{n}-phasors-{w}.png" for w in ("below", "inside", "above")} <= names
     for n in (3, 5, 6, 7, 11, 12, 13):
-        assert figures[n]["verdict"] == "agrees", (n, figures[n]["reason"])
+        assert by_number[n]["verdict"] == "agrees", (n, by_number[n]["reason"])
     # Figure 3: the paper's two ranges, 0.85-1.2 and 1.3-2.0 times 155 rpm (read off its plot)
-    ref = figures[3]["summary"]["sweep"]["reference"]
-    ends = [(r["start"] / ref, r["end"] / ref) for r in figures[3]["summary"]["unstable_ranges"]]
+    ref = by_number[3]["summary"]["sweep"]["reference"]
+    ends = [(r["start"] / ref, r["end"] / ref) for r in by_number[3]["summary"]["unstable_ranges"]]
     assert np.allclose(ends, [(0.85, 1.2), (1.3, 2.0)], atol=verdicts.RANGE_TOLERANCE)
-    assert figures[9]["range_difference_from_figure"] == {"figure": 8, "relative": pytest.approx(0, abs=1e-7)}
-    assert figures[10]["verdict"] == "nothing to compare"  # the paper states no range for Figure 10
+    assert by_number[9]["range_difference_from_figure"] == {
+        "figure": 8,
+        "relative": pytest.approx(0, abs=1e-7),
+    }
+    assert by_number[10]["verdict"] == "nothing to compare"  # the paper states no range for Figure 10
     assert math.isclose(
-        figures[8]["summary"]["unstable_ranges"][0]["start"],
-        figures[9]["summary"]["unstable_ranges"][0]["start"],
+        by_number[8]["summary"]["unstable_ranges"][0]["start"],
+        by_number[9]["summary"]["unstable_ranges"][0]["start"],
         rel_tol=1e-7,
     )
-    assert "stable over the whole sweep" in figures[10]["computed"]  # the smeared approximation misses it
+    assert "stable over the whole sweep" in by_number[10]["computed"]  # the smeared approximation misses it
     # docs/gallery.md shows this version's verdicts (docs/make_gallery_images.py writes its table)
     text = (Path(__file__).parents[1] / "docs" / "gallery.md").read_text(encoding="utf-8")
     rows = re.findall(
         r"^\| (\d+) \| `([^`]+)` \| .* \| (agrees in kind|agrees|differs|nothing to compare) \|$", text, re.M
     )
-    assert {int(n): (c, v) for n, c, v in rows} == {n: (f["case"], f["verdict"]) for n, f in figures.items()}
+    assert {int(n): (c, v) for n, c, v in rows} == {
+        n: (f["case"], f["verdict"]) for n, f in by_number.items()
+    }
 
 
 def test_control_characters_of_a_title_reach_neither_the_page_nor_the_terminal(tmp_path):

@@ -23,7 +23,7 @@ import numpy as np
 from .assess import damping_search, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
 from .errors import MethodError, ParameterError
-from .methods import choose_method, time_invariant
+from .methods import Method, choose_method, time_invariant
 from .model.params import Case
 from .model.schema import load_case
 from .model.system import System
@@ -32,7 +32,7 @@ from .modes.identify import identify_solution
 from .results.comparison import Comparison, Entry, case_name, entry_details
 from .results.simulation import Simulation
 from .results.sweep import SweepResult
-from .solve.floquet.cost import lowest_periodic_speed
+from .solve.floquet import cost
 from .solve.simulate import default_initial, initial_state, integrate, run_duration, settling_time
 from .solve.solvers import solver_for
 
@@ -92,15 +92,8 @@ def analyze(
     deutsch = deutsch_in_si(system)
     probe = scan.probe_speeds(speeds, [e.tuning_speed for e in deutsch], method.periodic)
     if method.periodic:
-        damping_search.check_work(
-            solver,
-            speeds,
-            probe,
-            deutsch,
-            lag_damping_search,
-            unit_of_speed,
-            time_invariant(case) is not None,
-        )
+        search = damping_search.periodic_search_grid(speeds, probe, deutsch) if lag_damping_search else None
+        cost.check_work(system, speeds, probe, search, unit_of_speed, time_invariant(case) is not None)
     report = progress or (lambda stage, done, total: None)
     report("sweep", 0, len(speeds))
     solution = solver.sweep(speeds, lambda done, total: report("sweep", done, total))
@@ -117,7 +110,7 @@ def analyze(
     def min_ratio_at(w):  # (one solve at w for all modes)
         roots = np.asarray(solver.roots(np.array([w])))[0]
         return stability.smallest_damping_ratio_at(
-            roots, modes, speeds, w, unique=method.form == "multiblade"
+            roots, modes, speeds, w, unique=method is Method.MULTIBLADE
         )
 
     assessed = stability.assess(
@@ -130,7 +123,7 @@ def analyze(
         probe,
         method.periodic,
         closeness=solver.closeness,
-        floor=lowest_periodic_speed(system, speeds, probe) if method.periodic else 0.0,
+        floor=cost.lowest_periodic_speed(system, speeds, probe) if method.periodic else 0.0,
         rough_growth=stability.rough_growth_of(solver),
     )
     report("range ends", 1, 1)
@@ -254,7 +247,7 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
     Raises
     ------
     ParameterError
-        For fewer than two entries.
+        For fewer than two entries (key ``entries``).
     MethodError
         For a method that cannot analyse an entry's case (the message names the entry).
 
@@ -267,10 +260,10 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
     methods = list(methods) if methods else [None]
     if len(cases) * len(methods) < 2:
         raise ParameterError(
-            "cases",
-            len(cases),
-            f"{len(cases)} case(s) by {len(methods)} method(s) make one entry: a comparison needs two or "
-            "more (give two cases, or two methods)",
+            "entries",
+            len(cases) * len(methods),
+            f"{len(cases)} case(s) by {len(methods)} method(s): a comparison needs two or more "
+            "entries (give two cases, or two methods)",
         )
     done = []  # (case, method, result): an entry asked twice is analysed once (identical results)
     plan = []

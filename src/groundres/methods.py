@@ -38,7 +38,8 @@ class Method(StrEnum):
 
     @property
     def form(self) -> str:
-        """The transform: "multiblade", "rotating" or "floquet" (none: the periodic equations)."""
+        """The transform that makes the equations time-invariant, "multiblade" or "rotating";
+        "floquet" where none does (the periodic equations are solved as they are)."""
         return self.value.removesuffix("-eigen")
 
     @property

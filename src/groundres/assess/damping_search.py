@@ -9,7 +9,8 @@ trial damping on one system without the working dampers, the damping a
 per-speed coefficient (:meth:`groundres.model.system.System.lag_damping_split`).
 It starts from the installed damper and the sweep's verdict there, so that
 the two agree. A Floquet search is costly: its work is estimated with the
-sweep's before anything runs (:func:`check_work`).
+sweep's before anything runs (:func:`groundres.solve.floquet.cost.check_work`,
+over :func:`periodic_search_grid`).
 """
 
 from __future__ import annotations
@@ -18,38 +19,11 @@ import math
 
 import numpy as np
 
-from ..solve.floquet import cost, transition
 from . import resolution, scan, stability
 
 #: Relative accuracy of the exact minimum lag damping, by method option
 #: (:attr:`groundres.methods.Method.option`).
 RTOL = {"eigen": 1e-4, "floquet": 1e-3}
-#: Work of a Floquet damping search beside its full scans of the grid (about
-#: four), in analyses of one speed: the bisection's refinements of the worst
-#: speeds; and of the refinements of the sweep's worst values.
-_SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
-
-
-def check_work(solver, speeds, probe, deutsch, search: bool, speed_unit, time_invariant):
-    """Refuse a Floquet analysis that cannot run (a speed too near rest,
-    :func:`groundres.solve.floquet.transition.check_slowest`) or whose estimated work is
-    beyond the limit (:mod:`groundres.solve.floquet.cost`).
-
-    The work counts the sweep (with its lifted problems), the internal grid
-    ``probe``, the damping search where ``search`` (four full scans of its
-    grid, :func:`search_grid`, and its refinements, at the grid's mean cost
-    per speed) and the refinements of the worst values.
-    """
-    transition.check_slowest(speeds)
-    system = solver.system
-    work, steps = cost.floquet_work(system, speeds)
-    work += cost.floquet_work(system, probe, lift=False)[0]
-    if search:
-        grid = search_grid(speeds, probe, True, lowest_search_speed(deutsch), search_windows(deutsch))
-        scans, _ = cost.floquet_work(system, grid, lift=False)
-        typical = scans / max(len(grid), 1)
-        work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
-    cost.check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
 
 
 def lowest_search_speed(deutsch):
@@ -85,6 +59,12 @@ def search_windows(deutsch, ranges=()) -> list[tuple[float, float]]:
         if e.tuning_speed is not None and e.body_frequency
     ]
     return out + [(float(a), float(b)) for a, b in ranges]
+
+
+def periodic_search_grid(speeds, probe, deutsch):
+    """The speeds a periodic search scans before the sweep is known (:func:`search_grid` over the
+    windows near the tuning speeds): what its work is estimated over."""
+    return search_grid(speeds, probe, True, lowest_search_speed(deutsch), search_windows(deutsch))
 
 
 def search_grid(speeds, probe, periodic, low=0.0, windows=()):
@@ -149,7 +129,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         return None, ("below", low)
     # (computed in the equations' mass unit, groundres.model.units.MassUnit: SI values near
     # the largest float would overflow in the products below)
-    unit = solver.unit
+    unit = solver.system.mass_unit
     system = solver.system
     blades = case.rotor.blades
     installed = max(system.damper_values()) if any(system.damper_values()) else 0.0

@@ -295,7 +295,10 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
         head += f" ({worst.what})"
         top = worst.value_at(allowed[end])
         limit = (
-            f"; allowed here: {worst.name} up to about {top:.3g} {worst.unit}" if 0 < top < math.inf else ""
+            f"; allowed here: {worst.name}{f' ({worst.detail})' if worst.detail else ''} up to about "
+            f"{top:.3g} {worst.unit}"
+            if 0 < top < math.inf
+            else ""
         )
     else:
         head = f"the fastest root of this case moves at about {rate:.3g} 1/s"

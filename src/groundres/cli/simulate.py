@@ -58,13 +58,16 @@ def command(case, speed, duration, initial, out, fmt):
     check_out(out_dir)
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}
-    given = {"speed": f"{speed!r} {unit}", "duration": repr(duration)}
+    given = {
+        "speed": f"{speed!r} {unit}",
+        "duration": repr(duration) if duration is not None else "(the default)",
+    }
     with Steps(console, labels) as steps:
         report = steps.callback and (lambda done, total: steps("integrate", done, total))
         try:
             sim = simulate(the_case, w, duration=duration, initial=values or None, progress=report)
         except ParameterError as err:  # (named as the command line's options)
-            option = OPTIONS[err.key]
+            option = OPTIONS.get(err.key, err.key)
             fail_user(f"{option} = {given.get(err.key) or shown(err.value)}: {err.allowed}")
         steps("integrate", sim.time[-1], sim.time[-1])
         growth = sim.growth_rate()

@@ -18,7 +18,7 @@ from . import dampers, mbc
 from .body import BODY_DOFS, Body
 from .mbc import Coordinate
 from .params import Rotor
-from .units import SI, MassUnit
+from .units import BLADE_UNITS, ROD_UNITS, SI, MassUnit
 
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
 
@@ -29,6 +29,12 @@ def searched(rotor: Rotor) -> str:
     if rods and (any(d.damping > 0 for d in rods) or not any(b.lag_damping > 0 for b in rotor.blades)):
         return "rods"
     return "blades"
+
+
+def searched_unit(rotor: Rotor) -> str:
+    """The unit of the damper a lag damping search sizes on ``rotor`` (:func:`searched`): a
+    rod's along it [N s/m], or a blade's rotational one [N m s/rad]."""
+    return ROD_UNITS["damping"] if searched(rotor) == "rods" else BLADE_UNITS["lag_damping"]
 
 
 def working(values) -> list:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..results.comparison import SPEED_ROUND_OFF
-from .figures import FIGURES, NUMBERS, Figure, figure
+from .figures import NUMBERS, Figure, figure
 from .verdicts import (
     QUADRATURE_TOLERANCE,
     RANGE_TOLERANCE,
@@ -27,8 +27,6 @@ from .verdicts import (
     speed_place,
     speeds_si,
 )
-
-__all__ = ["FIGURES", "NUMBERS", "build", "gallery_page"]
 
 
 class _Results:

@@ -15,8 +15,8 @@ from .._version import __version__
 from ..assess.damping_search import RTOL
 from ..assess.deutsch import DeutschEntry, installed_lag_damping, lag_frequency_per_rev
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
-from ..model.system import searched
-from ..model.units import BLADE_UNITS, ROD_UNITS
+from ..model.system import searched, searched_unit
+from ..model.units import ROD_UNITS
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -101,12 +101,6 @@ def no_exact_reason(result, speed) -> str:
         f"no lag damping up to{upto} (the largest the search tries: many times the Deutsch value "
         "and the installed damper) makes the sweep stable with the installed body damping"
     )
-
-
-def searched_unit(rotor) -> str:
-    """The unit of the damper a lag damping search sizes on ``rotor``
-    (:func:`groundres.model.system.searched`): a rod's along it, or a blade's rotational one."""
-    return ROD_UNITS["damping"] if searched(rotor) == "rods" else BLADE_UNITS["lag_damping"]
 
 
 def _lag_frequency_at(rotor, speed) -> dict:

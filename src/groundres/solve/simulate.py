@@ -114,7 +114,7 @@ def integrate(
         percent of ``duration``.
     max_steps : float, optional
         Steps after which the integration stops with
-        :class:`~groundres.assess.resolution.ModelRangeError` (round-off can keep an
+        :class:`~groundres.errors.ModelRangeError` (round-off can keep an
         adaptive step from growing); by default four times the estimate
         (:func:`estimate_steps`), at least 2000 and at most 4 :data:`MAX_STEPS`.
 
@@ -246,7 +246,8 @@ def fastest_rate(system: System, speed: float, probes: int = 8) -> float:
 
 
 def estimate_steps(system: System, speed: float, duration: float) -> float:
-    """Integration steps :func:`simulate` is expected to take over ``duration`` [s] (``inf`` if unbounded)."""
+    """Integration steps :func:`integrate` is expected to take over ``duration`` [s]
+    (``inf`` if unbounded)."""
     with np.errstate(all="ignore"):
         return float(duration * fastest_rate(system, speed) / (2 * np.pi) * STEPS_PER_PERIOD)
 
@@ -279,9 +280,10 @@ def run_duration(system: System, speed: float, duration: float | None, settle=0.
     Raises
     ------
     ParameterError
-        Naming ``speed`` or ``duration``: a duration that is not a finite number > 0,
-        shorter than :data:`MIN_REVOLUTIONS` or too long to integrate; a speed too
-        slow or too fast to simulate, or at which no run that measures growth fits.
+        Naming ``duration``: one that is not a finite number > 0, shorter than
+        :data:`MIN_REVOLUTIONS`, or (given or the default) too long to integrate;
+        naming ``speed``: one too slow or too fast to simulate, or at which no run
+        that measures growth fits.
     """
     at_speed = f"at {speed_name or f'{speed:.4g} rad/s'}"
     given = duration is not None
@@ -336,12 +338,5 @@ def run_duration(system: System, speed: float, duration: float | None, settle=0.
             f"({MIN_REVOLUTIONS} revolutions, {shortest:.4g} s) is too long {at_speed}: "
             "choose a higher speed",
         )
-    if given:
-        raise ParameterError(
-            "duration", duration, f"{at_speed} this run {cost}; at most {longest:.4g} s fits"
-        )
-    raise ParameterError(
-        "speed",
-        speed,
-        f"{run} {cost}; choose a shorter run, of at most {longest:.4g} s",
-    )
+    # (a shorter run fits: the duration, given or the default, is what to change)
+    raise ParameterError("duration", duration, f"{run} {at_speed} {cost}; at most {longest:.4g} s fits")

@@ -50,26 +50,51 @@ from .floquet.tableau import DOP8
 
 
 class Solver:
-    """Roots of one case's equations at any speeds (the module docstring gives the interface)."""
+    """Roots of one case's equations at any speeds (the module docstring gives the interface).
 
+    Parameters
+    ----------
+    system : System
+        The equations, in their mass unit (``system.mass_unit``).
+    """
+
+    #: The method this solver's roots are found by.
     method: Method
 
     #: ``rough_real_parts(speeds) -> (real, lower, upper)``: cheaper :meth:`real_parts` for
     #: scans, with bounds of the exact values (None: :meth:`real_parts` is cheap enough).
     rough_real_parts = None
 
+    #: ``closeness(speeds) -> (n_s,)``: the nearest approach of two roots of one block, which
+    #: finds undamped coalescences between scanned speeds (None: the roots are known only
+    #: modulo the rotor speed, as Floquet exponents are).
+    closeness = None
+
     def __init__(self, system: System):
         self.system = system
         self.coordinates = system.multiblade_coordinates()
         self.isotropic_pairs = [p for p in ROTATING_PAIRS if system.body.pair_isotropic(*p)]
 
-    @property
-    def unit(self):
-        """The mass unit of the equations (:class:`groundres.model.units.MassUnit`)."""
-        return self.system.mass_unit
+    def roots(self, speeds) -> np.ndarray:
+        """Every root [1/s] at each of ``speeds`` [rad/s], (n_s, k)."""
+        raise NotImplementedError
 
-    def with_lag_damping(self, scale_to: float, in_unit: bool = False):
-        """The same case with the working dampers a search sizes set to ``scale_to`` (blade
+    def real_parts(self, speeds) -> np.ndarray:
+        """The real parts [1/s] that decide growth at each of ``speeds``, (n_s, k): batched,
+        for scans over thousands of speeds."""
+        raise NotImplementedError
+
+    def sweep(self, speeds, progress=None):
+        """Roots and eigenvectors at ``speeds``, tracked along branches
+        (:class:`groundres.solve.modal.Eigensolution`); ``progress(done, total)`` in speeds."""
+        raise NotImplementedError
+
+    def accuracy(self) -> dict:
+        """How the last sweep's roots were found, and how accurately (for provenance)."""
+        raise NotImplementedError
+
+    def with_lag_damping(self, value: float, in_unit: bool = False):
+        """The same case with the working dampers a search sizes set to ``value`` (blade
         lag dampers [N m s/rad], or damper rods [N s/m]: :attr:`groundres.model.system.System.searched`),
         in SI, or in the equations' mass unit if ``in_unit``.
 
@@ -77,13 +102,13 @@ class Solver:
         unless no blade has one, in which case all get it
         (:meth:`groundres.model.system.System.with_lag_damping`).
         """
-        value = scale_to if in_unit else self.unit.from_si(scale_to)
+        value = value if in_unit else self.system.mass_unit.from_si(value)
         return type(self)(self.system.with_lag_damping(value))
 
     def weights(self, speeds):
         """Kinetic weights [kg, kg m^2] (the mass-matrix diagonal in SI)."""
         weights = self.system.kinetic_weights(speeds)
-        si = self.unit.to_si(weights)
+        si = self.system.mass_unit.to_si(weights)
         # (only their ratios matter: beyond floating point they stay in the mass unit)
         return si if np.isfinite(si).all() else weights
 
@@ -220,7 +245,6 @@ class Floquet(Solver):
     """Periodic equations: Floquet exponents and periodic eigenvectors."""
 
     method = Method.FLOQUET
-    closeness = None  # (exponents are known modulo Omega: ranges come from the grid and its peaks)
 
     def __init__(self, system, split=None, lag_damping=None):
         super().__init__(system)
@@ -232,7 +256,7 @@ class Floquet(Solver):
         self.compiled = None  # (whether the sweep's transition matrices came from the compiled kernel)
 
     def with_lag_damping(self, value, in_unit=False):
-        value = value if in_unit else self.unit.from_si(value)
+        value = value if in_unit else self.system.mass_unit.from_si(value)
         if self.split is None:
             split = self.system.lag_damping_split()
             # (the family's symmetry: working dampers alike and nonzero, failed ones failed)

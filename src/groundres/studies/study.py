@@ -94,7 +94,7 @@ def boundary(
     """The stability boundary along ``key`` for every value of the other varied keys.
 
     ``vary`` as for :func:`study`; ``key`` one of its keys, whose range is
-    searched by root finding (:mod:`groundres.studies.study.boundary`) instead of
+    searched by root finding (:mod:`groundres.studies.search`) instead of
     sampled. Returns a data set over the other keys (and ``failure``):
     ``boundary`` [the key's units], ``stable_at_start``, ``evaluations`` and
     ``error``.

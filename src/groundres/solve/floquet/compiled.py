@@ -300,7 +300,7 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     h : float
         Step [rad].
     tableau : Tableau
-        :data:`groundres.solve.floquet.transition.DOP8` (the estimators are DOP853's).
+        :data:`groundres.solve.floquet.tableau.DOP8` (the estimators are DOP853's).
     parts : int
         Divides the step count.
     cumulative : bool

@@ -8,7 +8,8 @@ times more where a period's grid is too fine to keep (low speeds).
 :func:`groundres.solve.floquet.exponents.solve` from the frozen system's
 rates, :func:`floquet_work` turns them into work, and
 :func:`check_floquet_work` refuses a sweep above :data:`FLOQUET_WORK_LIMIT`
-with the estimate and what to change (a :class:`~groundres.errors.ModelRangeError`).
+with the estimate and what to change (a :class:`~groundres.errors.ModelRangeError`);
+:func:`check_work` does so for a whole analysis before it starts.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from .coefficients import GRID_CACHE_SIZE, frozen_rates, grid_values
 from .exponents import LIFT_SPREAD, LIFT_STEP
 from .symmetry import symmetry
 from .tableau import DOP8
+from .transition import check_slowest
 from .transition import estimated_steps as transition_steps
 
 #: Estimated Floquet work above which an analysis is refused, in steps of a
@@ -38,6 +40,10 @@ _EIG_PER_STEP = 1.6e-5
 #: multipliers, periodic eigenvectors, harmonics and their names (about as
 #: much as 16 steps), and the memory they take.
 _PER_SPEED = 16.0
+#: Work of a Floquet damping search beside its full scans of the grid (about
+#: four), in analyses of one speed: the bisection's refinements of the worst
+#: speeds; and of the refinements of the sweep's worst values.
+_SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
 
 
 def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -147,3 +153,25 @@ def lowest_periodic_speed(system, speeds, probe) -> float:
     work, _ = floquet_work_per_speed(system, w, lift=False)
     ok = np.flatnonzero(work <= REST_BUDGET)
     return float(w[ok[-1]]) if len(ok) else first
+
+
+def check_work(system: System, speeds, probe, search, speed_unit, time_invariant) -> None:
+    """Refuse a Floquet analysis that cannot run (a speed too near rest,
+    :func:`groundres.solve.floquet.transition.check_slowest`) or whose estimated work is
+    beyond :data:`FLOQUET_WORK_LIMIT`.
+
+    The work counts the sweep ``speeds`` (with its lifted problems), the internal
+    grid ``probe``, the damping search over ``search`` (four full scans and its
+    refinements, at the grid's mean cost per speed; None: no search,
+    :func:`groundres.assess.damping_search.periodic_search_grid`) and the
+    refinements of the worst values. ``speed_unit`` and ``time_invariant`` as for
+    :func:`check_floquet_work`.
+    """
+    check_slowest(speeds)
+    work, steps = floquet_work(system, speeds)
+    work += floquet_work(system, probe, lift=False)[0]
+    if search is not None:
+        scans, _ = floquet_work(system, search, lift=False)
+        typical = scans / max(len(search), 1)
+        work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
+    check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)

@@ -8,7 +8,8 @@ all speeds and every damping set along the damping directions (:mod:`groundres.s
 The integrator is the eighth-order Runge-Kutta method of Dormand and Prince
 (the twelve stages of DOP853) on a fixed grid, chosen on evidence: for
 multipliers to 1e-10 it needs three to five times fewer stage evaluations
-than a sixth-order method (Butcher 1964, kept as BUTCHER6 for comparison).
+than a sixth-order method (Butcher 1964, kept as
+:data:`groundres.solve.floquet.tableau.BUTCHER6` for comparison).
 Two paths compute the same matrices:
 
 * the compiled kernel (:mod:`groundres.solve.floquet.compiled`, wherever it has been
