@@ -15,6 +15,8 @@ DOCS = Path(__file__).resolve().parent
 REPOSITORY = DOCS.parent
 # Document the package of this checkout, not whatever version is installed.
 sys.path.insert(0, str(REPOSITORY / "src"))
+# The docs' own Sphinx extension (math as MathML, docs/_ext/mathml.py).
+sys.path.insert(0, str(DOCS / "_ext"))
 
 from groundres import __version__  # noqa: E402
 
@@ -27,11 +29,14 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
-    "sphinx.ext.mathjax",
+    "mathml",
     "sphinx.ext.viewcode",
 ]
 
 source_suffix = {".md": "markdown"}
+# Math is MathML written at build time (docs/_ext/mathml.py): the pages need no script
+# and no network to show it.
+html_math_renderer = "mathml"
 root_doc = "index"
 exclude_patterns = ["_build"]
 
@@ -97,4 +102,5 @@ def setup(app):
 # -- HTML ------------------------------------------------------------------------
 html_theme = "furo"
 html_title = f"groundres {release}"
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["mathml.css"]
