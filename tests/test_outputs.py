@@ -304,11 +304,11 @@ def test_analysis_reports_progress_by_stage(tmp_path):
     case = load_case(write_floquet(tmp_path))  # Floquet: the sweep reports batches of speeds
     analyze(case, progress=lambda stage, done, total: calls.append((stage, done, total)))
     stages = list(dict.fromkeys(stage for stage, _, _ in calls))
-    assert stages == ["sweep", "range ends", "lag damping"]
+    assert stages == ["sweep", "range ends", "lag damping", "margins"]
     sweep = [(done, total) for stage, done, total in calls if stage == "sweep"]
     assert sweep[0] == (0, case.sweep.points) and sweep[-1] == (case.sweep.points,) * 2
     assert all(a[0] <= b[0] for a, b in zip(sweep, sweep[1:]))
-    assert calls[-1] == ("lag damping", 1, 1)
+    assert calls[-1] == ("margins", 1, 1)
 
 
 def test_simulation_reports_progress_in_simulated_seconds():

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .assess import damping_search, resolution, scan, stability
+from .assess import damping_search, margins, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
 from .errors import MethodError, ParameterError
 from .methods import Method, choose_method, time_invariant
@@ -61,8 +61,8 @@ def analyze(
     progress : callable, optional
         ``progress(stage, done, total)`` as the work advances: stage "sweep"
         counts speeds (several calls for a periodic analysis, one at its end
-        for an eigen-analysis); "range ends" and "lag damping" are called with
-        ``(0, None)`` when they start and ``(1, 1)`` when they end.
+        for an eigen-analysis); "range ends", "lag damping" and "margins" are
+        called with ``(0, None)`` when they start and ``(1, 1)`` when they end.
     lag_damping_search : bool
         Search the exact minimum lag damping (:mod:`groundres.assess.damping_search`);
         without it ``exact_lag_damping`` is None with the reason ("skipped", None).
@@ -136,12 +136,17 @@ def analyze(
             "note": "a root grows when its real part exceeds per_radian * rotor speed + floor",
         },
     }
+    # the modes neutral at rest, from the analysis at rest (time-invariant for every method)
+    rest = solver.sweep(np.zeros(1))
+    at_rest = identify_solution(
+        rest, np.zeros(1), solver.coordinates, system.kinetic_weights(np.zeros(1)), solver.isotropic_pairs
+    )
     exact, no_exact = None, ("skipped", None)
     if lag_damping_search:
         report("lag damping", 0, None)
         exact, no_exact = damping_search.exact_minimum(solver, case, speeds, probe, deutsch, assessed)
         report("lag damping", 1, 1)
-    return SweepResult(
+    result = SweepResult(
         case=case,
         method=method,
         frame=frame,
@@ -155,6 +160,12 @@ def analyze(
         weights=solver.weights(speeds),
         accuracy=accuracy,
     )
+    report("margins", 0, None)
+    result.margins = margins.margins(
+        result, solver.roots, margins.neutral_at_rest(at_rest), method is Method.MULTIBLADE, method.periodic
+    )
+    report("margins", 1, 1)
+    return result
 
 
 def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=None) -> Simulation:

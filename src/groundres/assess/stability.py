@@ -90,29 +90,56 @@ def rough_growth_of(solver):
     return rough_growth
 
 
+def continuing_roots(roots, targets, w, unique: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The root that continues each target eigenvalue at its speed, frequency made positive,
+    and every candidate (k, r) it was chosen among.
+
+    ``roots`` (k, r) are every root at the speeds ``w`` (k,) [rad/s] and
+    ``targets`` (k,) the eigenvalues expected there (interpolated from a
+    sweep, frequency >= 0). Where frequencies are ``unique`` (a multiblade
+    eigen-analysis) the nearest root is taken as it is; otherwise (a root
+    known modulo the rotor speed, or seen from other axes) its frequency is
+    first shifted by the multiple of the rotor speed that brings it nearest.
+    """
+    roots, targets = np.asarray(roots), np.asarray(targets)
+    w = np.asarray(w, float)[:, None]
+    if unique:
+        cand = roots.real + 1j * np.abs(roots.imag)
+    else:
+        m = np.rint((targets.imag[:, None] - roots.imag) / w)
+        cand = roots.real + 1j * np.abs(roots.imag + m * w)
+    return cand[np.arange(len(targets)), np.argmin(np.abs(cand - targets[:, None]), axis=1)], cand
+
+
+def interpolated(modes, speeds, w, columns=None) -> np.ndarray:
+    """The modes' eigenvalues interpolated at speeds ``w`` [rad/s] (one per column, or per
+    mode in ``columns``)."""
+    lam = modes.eigenvalue
+    columns = range(lam.shape[1]) if columns is None else columns
+    w = np.broadcast_to(np.asarray(w, float), (len(columns),))
+    return np.array(
+        [
+            complex(np.interp(x, speeds, lam[:, k].real), np.interp(x, speeds, lam[:, k].imag))
+            for x, k in zip(w, columns)
+        ]
+    )
+
+
 def smallest_damping_ratio_at(roots, modes, speeds, w: float, unique: bool) -> float:
     """Smallest damping ratio [-] at speed ``w`` [rad/s] over the roots that continue the modes.
 
     ``roots`` are every root at ``w``; ``modes`` the sweep's
     (:class:`groundres.modes.identify.Modes`) at ``speeds``. Where frequencies
-    are ``unique`` (a multiblade eigen-analysis) every root counts; otherwise,
-    for each mode, the root nearest its eigenvalue interpolated from the sweep,
-    with its frequency shifted by the multiple of Omega that brings it nearest.
+    are ``unique`` (a multiblade eigen-analysis) every root counts; otherwise
+    each mode's root is the one that continues it (:func:`continuing_roots`).
     """
     roots = np.asarray(roots)
     if unique:
         cand = roots.real + 1j * np.abs(roots.imag)
         return float(damping_ratio(cand, scale=np.abs(cand).max()).min())
-    lam = modes.eigenvalue  # (n_s, n_m)
-    target = np.array(
-        [
-            complex(np.interp(w, speeds, lam[:, k].real), np.interp(w, speeds, lam[:, k].imag))
-            for k in range(lam.shape[1])
-        ]
-    )
-    m = np.rint((target.imag[:, None] - roots.imag[None, :]) / w)
-    cand = roots.real[None, :] + 1j * np.abs(roots.imag[None, :] + m * w)
-    best = cand[np.arange(len(target)), np.argmin(np.abs(cand - target[:, None]), axis=1)]
+    targets = interpolated(modes, speeds, w)
+    k = len(targets)
+    best, cand = continuing_roots(np.broadcast_to(roots, (k, len(roots))), targets, np.full(k, w), unique)
     return float(damping_ratio(best, scale=np.abs(cand).max()).min())
 
 

@@ -9,7 +9,7 @@ values within the growth threshold of zero print as neutral, not as numbers
 from __future__ import annotations
 
 from ..model.units import FREQUENCY_UNITS, fmt_speed, ref_note, significant
-from ..results.summary import no_exact_reason, open_below_note
+from ..results.summary import SWEEP_END_NOTE, SWEEP_START_NOTE, no_exact_reason, open_below_note
 from .common import plain
 
 
@@ -41,15 +41,20 @@ def worst_values(summary: dict, sweep) -> str:
         )
     else:
         at = fmt_speed(mr["speed"], sweep)
-        first = f"Largest real part {mr['value']:.4g} 1/s ({plain(mr['mode'])}) at {at}"
+        first = f"Largest real part {mr['value']:.4g} 1/s ({plain(mr['mode'])}{_creeps(mr)}) at {at}"
     if md["value"] is None:
         second = f"smallest damping ratio: none ({md['value_reason']})"
     elif md["neutral"]:
         second = "smallest damping ratio 0 (neutral)"
     else:
         at = fmt_speed(md["speed"], sweep)
-        second = f"smallest damping ratio {md['value']:.4g} ({plain(md['mode'])}) at {at}"
+        second = f"smallest damping ratio {md['value']:.4g} ({plain(md['mode'])}{_creeps(md)}) at {at}"
     return f"{first}; {second}."
+
+
+def _creeps(worst: dict) -> str:
+    """Words for a worst value that comes from a mode that does not vibrate there."""
+    return "" if worst.get("vibrating", True) else ", not vibrating: neutral at rest, overdamped"
 
 
 def unstable_table(summary: dict, sweep):
@@ -60,18 +65,23 @@ def unstable_table(summary: dict, sweep):
     for r in summary["unstable_ranges"]:
         modes = plain(", ".join(r["modes"]))
         start = ("<= " if "start_note" in r else "") + _speed_cell(r["start"], sweep)
-        table.add_row(start, _speed_cell(r["end"], sweep), modes)
+        end = (">= " if r.get("open_end") else "") + _speed_cell(r["end"], sweep)
+        table.add_row(start, end, modes)
     return table
 
 
 def range_notes(summary: dict, sweep) -> list[str]:
     """Lines explaining a range whose start is only a bound
     (:func:`groundres.results.summary.open_below_note`)."""
-    return [
-        f"<= {fmt_speed(r['start'], sweep)}: {open_below_note(fmt_speed(r['start'], sweep))}."
-        for r in summary["unstable_ranges"]
-        if "start_note" in r
-    ]
+    out = []
+    for r in summary["unstable_ranges"]:
+        if r.get("start_note") == SWEEP_START_NOTE:
+            out.append(f"<= {fmt_speed(r['start'], sweep)}: {SWEEP_START_NOTE}.")
+        elif "start_note" in r:
+            out.append(f"<= {fmt_speed(r['start'], sweep)}: {open_below_note(fmt_speed(r['start'], sweep))}.")
+        if r.get("open_end"):
+            out.append(f">= {fmt_speed(r['end'], sweep)}: {SWEEP_END_NOTE}.")
+    return out
 
 
 def _speed_cell(w, sweep, digits=5, sep=" ") -> str:
@@ -224,7 +234,14 @@ def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> N
         for line in range_notes(summary, sweep):
             console.print(plain(line))
     console.print(worst_values(summary, sweep))
+    if "margins" in summary:
+        console.print()
+        console.print(margins_table(summary, sweep))
+        for line in margins_notes(summary, sweep):
+            console.print(plain(line))
     console.print()
+    if "deutsch_overall" in summary["lag_damping"]:
+        console.print(plain(f"Note: {summary['lag_damping']['deutsch_overall']}."))
     console.print(deutsch_table(summary, sweep))
     for line in deutsch_notes(summary, sweep):
         console.print(line)
@@ -257,3 +274,102 @@ def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> N
     console.print(
         f"Wrote {plain(out_dir)}/summary.json, modes.csv, modes.nc, coleman.{fmt}, case.toml, provenance.json"
     )
+
+
+def _percent(least: dict | None) -> str:
+    """A damping ratio in per cent, or why there is none."""
+    if least is None:
+        return "-"
+    return "0 (neutral)" if least["neutral"] else f"{100 * least['value']:.3g}"
+
+
+def _at(least: dict | None, sweep) -> str:
+    return "" if least is None or least["neutral"] else _speed_cell(least["speed"], sweep, digits=4, sep="\n")
+
+
+_VERDICT_STYLE = {
+    "meets the requirement": "green",
+    "stable": "green",
+    "stable but below it": "yellow",
+    "unstable": "red",
+}
+
+
+def margins_table(summary: dict, sweep):
+    """One row per mode: its least damping ratio over the operating range and the run-up,
+    the margin to the requirement and the verdict (:mod:`groundres.assess.margins`)."""
+    m = summary["margins"]
+    unit = sweep.unit
+    where = "operating range" if m["operating_range"]["given"] else "sweep"
+    title = f"Damping of each mode over the {where}"
+    if m["required_damping_ratio"] is not None:
+        title += f", against {100 * m['required_damping_ratio']:.3g} % required"
+    table = simple_table(title)
+    headers = ["mode", "least\n[%]", f"at\n[{unit}]"]
+    if m["run_up"] is not None:
+        headers += ["run-up\n[%]", f"at\n[{unit}]"]
+    headers += ["margin\n[%]", "verdict"]
+    for header in headers:
+        name, _, units = header.partition("\n")
+        table.add_column(plain(header), min_width=max(len(name), len(units)))
+    for row in m["modes"]:
+        cells = [
+            plain(row["mode"]),
+            _percent(row["least_damping_ratio"]),
+            _at(row["least_damping_ratio"], sweep),
+        ]
+        if m["run_up"] is not None:
+            run_up = row["least_damping_ratio_run_up"]
+            cells += [_percent(run_up), _at(run_up, sweep)]
+        margin = row["margin"]
+        cells.append("-" if margin is None else f"{100 * margin:+.3g}")
+        style = _VERDICT_STYLE[row["verdict"]]
+        cells.append(f"[{style}]{row['verdict']}[/{style}]")
+        table.add_row(*cells)
+    return table
+
+
+def margins_notes(summary: dict, sweep) -> list[str]:
+    """The verdict over the operating range, and the lines under the margins table."""
+    m = summary["margins"]
+    lo, hi = m["operating_range"]["start"], m["operating_range"]["stop"]
+    span = f"{fmt_speed(lo, sweep, ref=False)} to {fmt_speed(hi, sweep, ref=False)}"
+    where = (
+        f"operating range {span}"
+        if m["operating_range"]["given"]
+        else f"whole sweep {span} (no operating range given)"
+    )
+    least = m["least_damping_ratio"]
+    verdict = m["verdict"]
+    if least is None:
+        text = f"Margins over the {where}: no mode vibrates there."
+    else:
+        value = "0 (neutral)" if least["neutral"] else f"{100 * least['value']:.3g} %"
+        text = f"Verdict: {verdict}. Least damping ratio over the {where}: {value} ({least['mode']}"
+        text += ")" if least["neutral"] else f", at {fmt_speed(least['speed'], sweep)})"
+        if m["required_damping_ratio"] is not None:
+            text += f"; required {100 * m['required_damping_ratio']:.3g} %"
+        text += "."
+    notes = [text]
+    if m["run_up"] is not None:
+        start, stop = (fmt_speed(m["run_up"][k], sweep, ref=False) for k in ("start", "stop"))
+        notes.append(
+            f"Run-up: the sweep below the operating range, {start} to {stop}; it must be stable, the "
+            "requirement applies over the operating range."
+        )
+    growth = m["growth_margin"]
+    if growth is not None:
+        shown = "neutral" if growth["neutral"] else f"{growth['value']:.4g} 1/s"
+        notes.append(
+            f"Growth margin (largest real part of the vibrating modes): {shown} ({growth['mode']}"
+            + (")." if growth["neutral"] else f", at {fmt_speed(growth['speed'], sweep)}).")
+        )
+    if m["neutral_at_rest"]:
+        notes.append(
+            f"Neutral at rest ({', '.join(m['neutral_at_rest'])}): no stiffness with the rotor stopped; "
+            "counted only where they vibrate (not while overdamped at low speed)."
+        )
+    notes.append(
+        "-: the mode does not vibrate there; neutral: within the growth threshold of zero (round-off)."
+    )
+    return notes

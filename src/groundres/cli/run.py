@@ -26,6 +26,7 @@ STAGES = {
     "sweep": "Sweep over the rotor speeds",
     "range ends": "Ends of the unstable ranges",
     "lag damping": "Minimum lag damping",
+    "margins": "Margins of each mode",
     "write": "Writing results",
 }
 

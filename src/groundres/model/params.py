@@ -15,7 +15,7 @@ from ..errors import ParameterError
 from ..methods import OPTIONS
 from .body import Body
 from .units import SPEED_UNITS
-from .validate import non_negative, positive
+from .validate import finite, non_negative, positive
 
 FRAMES = ("nonrotating", "rotating")
 
@@ -196,6 +196,13 @@ class Sweep:
         "nonrotating" or "rotating": the axes frequencies are seen from.
     method : str
         "auto", "eigen" or "floquet".
+    operating_start, operating_stop : float or None
+        The operating range of rotor speed [rad/s], inside the sweep; the
+        sweep below it is the run-up. Either may be left out (None): the
+        range then starts at the sweep's start or stops at its stop.
+    required_damping_ratio : float or None
+        The damping ratio every mode must keep over the operating range [-]
+        (:mod:`groundres.assess.margins`); None: none required beyond stability.
     """
 
     start: float
@@ -205,6 +212,9 @@ class Sweep:
     reference: float | None = None
     frame: str = "nonrotating"
     method: str = "auto"
+    operating_start: float | None = None
+    operating_stop: float | None = None
+    required_damping_ratio: float | None = None
 
     def __post_init__(self):
         non_negative(self, "start")
@@ -219,11 +229,40 @@ class Sweep:
                 raise ParameterError(key, getattr(self, key), f"must be one of {list(allowed)}")
         if self.reference is not None:
             positive(self, "reference")
+        for key in ("operating_start", "operating_stop"):
+            value = getattr(self, key)
+            if value is not None and not (finite(value) and self.start <= value <= self.stop):
+                raise ParameterError(key, value, "must be a speed inside the sweep, from start to stop")
+        low, high = self.operating_range
+        if low >= high:
+            if self.operating_start is None:
+                raise ParameterError("operating_stop", high, "must be above the sweep's start")
+            if self.operating_stop is None:
+                raise ParameterError("operating_start", low, "must be below the sweep's stop")
+            raise ParameterError("operating_start", low, "must be below operating_stop")
+        ratio = self.required_damping_ratio
+        if ratio is not None and not (finite(ratio) and 0 <= ratio < 1):
+            raise ParameterError("required_damping_ratio", ratio, "must be a damping ratio from 0 to below 1")
 
     @property
     def speeds(self) -> np.ndarray:
         """The rotor speeds [rad/s], shape (points,)."""
         return np.linspace(self.start, self.stop, self.points)
+
+    @property
+    def operating_range(self) -> tuple[float, float]:
+        """The operating range [rad/s]: (operating_start, operating_stop), the sweep's
+        ends where they are not given."""
+        low = self.start if self.operating_start is None else self.operating_start
+        high = self.stop if self.operating_stop is None else self.operating_stop
+        return float(low), float(high)
+
+    @property
+    def run_up(self) -> tuple[float, float] | None:
+        """The run-up [rad/s]: the sweep below the operating range, or None where the range
+        starts at the sweep's start."""
+        low = self.operating_range[0]
+        return (float(self.start), low) if low > self.start else None
 
     @property
     def unit_factor(self) -> float:

@@ -70,6 +70,9 @@ SCHEMA = {
         "reference": _NUMBER,
         "frame": _STR,
         "method": _STR,
+        "operating_start": _NUMBER,
+        "operating_stop": _NUMBER,
+        "required_damping_ratio": _NUMBER,
     },
 }
 REQUIRED = {
@@ -258,6 +261,10 @@ def _body(data: dict) -> Body:
     return _build("[body] ", Body, dofs=tuple(dofs), gear=tuple(legs), **values)
 
 
+#: The [sweep] keys that hold speeds (in the case's unit).
+_SPEED_KEYS = ("start", "stop", "reference", "operating_start", "operating_stop")
+
+
 def _sweep(data: dict) -> Sweep:
     _check_table("sweep", data)
     unit = data.get("unit", "rad/s")
@@ -265,10 +272,12 @@ def _sweep(data: dict) -> Sweep:
         raise CaseError(f"[sweep] unit = {unit!r}: must be one of {list(SPEED_UNITS)}")
     factor = SPEED_UNITS[unit]
     kwargs = {k: data[k] for k in ("points", "frame", "method") if k in data}
-    for key in ("start", "stop", "reference"):
+    if "required_damping_ratio" in data:
+        kwargs["required_damping_ratio"] = float(data["required_damping_ratio"])
+    for key in _SPEED_KEYS:
         if key in data:
             kwargs[key] = float(data[key]) * factor
-    for key in ("start", "stop", "reference"):
+    for key in _SPEED_KEYS:
         if key in kwargs and not finite(kwargs[key]):
             raise CaseError(
                 f"[sweep] {key} = {shown(data[key])}: too large to hold in rad/s ({unit} x {factor:.6g})"
@@ -280,6 +289,9 @@ def _sweep(data: dict) -> Sweep:
         allowed = err.allowed
         if err.key == "start" and "below stop" in allowed:
             allowed = f"must be below stop ({data['stop']!r})"
+        if "inside the sweep" in allowed:
+            ends = f"from start ({data['start']!r}) to stop ({data['stop']!r}) {unit}"
+            allowed = f"must be a speed inside the sweep, {ends}"
         raise CaseError(f"[sweep] {err.key} = {shown(value)}: {allowed}") from None
 
 

@@ -286,6 +286,39 @@ def deutsch_rows(summary: dict, sweep) -> list[dict]:
     return rows
 
 
+def margin_rows(summary: dict, sweep) -> list[dict]:
+    """The margins table of the page: per mode, its least damping ratio over the operating range
+    and the run-up [%] with where, the margin to the requirement and the verdict."""
+
+    def percent(least, key):
+        if least is None:
+            return number(None, key + ".value", "-")
+        text = "0 (neutral)" if least["neutral"] else f"{100 * least['value']:.3g} %"
+        return number(least["value"], key + ".value", text)
+
+    def where(least, key):
+        return "" if least is None or least["neutral"] else speed(least["speed"], key + ".speed", sweep)
+
+    rows = []
+    for i, m in enumerate(summary["margins"]["modes"]):
+        key = f"margins.modes.{i}"
+        margin = m["margin"]
+        rows.append(
+            {
+                "mode": m["mode"],
+                "least": percent(m["least_damping_ratio"], key + ".least_damping_ratio"),
+                "at": where(m["least_damping_ratio"], key + ".least_damping_ratio"),
+                "run_up": percent(m["least_damping_ratio_run_up"], key + ".least_damping_ratio_run_up"),
+                "run_up_at": where(m["least_damping_ratio_run_up"], key + ".least_damping_ratio_run_up"),
+                "margin": number(
+                    margin, key + ".margin", "-" if margin is None else f"{100 * margin:+.3g} %"
+                ),
+                "verdict": m["verdict"],
+            }
+        )
+    return rows
+
+
 def report_page(
     result,
     *,
@@ -316,8 +349,10 @@ def report_page(
         {
             "start": speed(r["start"], f"unstable_ranges.{i}.start", sweep),
             "end": speed(r["end"], f"unstable_ranges.{i}.end", sweep),
+            "open_start": r.get("open_start", False),
+            "open_end": r.get("open_end", False),
             "modes": ", ".join(r["modes"]),
-            "note": r.get("start_note") or r.get("end_note") or "",
+            "note": "; ".join(n for n in (r.get("start_note"), r.get("end_note")) if n),
         }
         for i, r in enumerate(summary["unstable_ranges"])
     ]
@@ -332,6 +367,7 @@ def report_page(
         "ranges": ranges,
         "speed": lambda value, key: speed(value, key, sweep),
         "deutsch": deutsch_rows(summary, sweep),
+        "margins": margin_rows(summary, sweep) if "margins" in summary else None,
         "lag": lag,
         "coleman": coleman,
         "phasors": phasors,

@@ -290,6 +290,17 @@ def coleman_diagram(
                 transform=ax_f.get_xaxis_transform(),
                 clip_on=False,
             )
+    margins = getattr(result, "margins", None)
+    operating = margins is not None and margins.operating_given
+    required = None if margins is None else margins.required_damping_ratio
+    if operating:  # the operating range: a band with its edges
+        lo, hi = (x / factor for x in margins.operating_range)
+        for ax in panels:
+            ax.axvspan(lo, hi, color="#1f77b4", alpha=0.07, lw=0)
+            for edge in (lo, hi):
+                ax.axvline(edge, color="#1f77b4", lw=0.9, ls="--", alpha=0.6)
+    if required is not None and show_damping_ratio:
+        ax_d.axhline(required, color="0.1", lw=1.3, ls="-.")
     n_s = len(w)
     succ = modes.successor() if n_s > 1 else np.zeros((0, len(result.labels)), int)
     exchange = modes.exchange
@@ -407,5 +418,14 @@ def coleman_diagram(
     if narrow:
         handles.append(Line2D([], [], color="#d62728", marker="v", ms=7, lw=0.8, alpha=0.7))
         labels.append(f"narrow unstable range\n(under {_NARROW:.1%} of the axis)")
+    if operating:
+        from matplotlib.patches import Patch
+
+        handles.append(Patch(facecolor="#1f77b4", alpha=0.15, edgecolor="#1f77b4", ls="--"))
+        labels.append("operating range")
+    if required is not None:
+        handles.append(Line2D([], [], color="0.1", lw=1.3, ls="-."))
+        text = f"required damping ratio\n{100 * required:.3g} %"
+        labels.append(text if show_damping_ratio else text + " (drawn on the\ndamping-ratio panel)")
     fig.legend(handles, labels, loc="outside right center", fontsize=9, frameon=False)
     return fig

@@ -39,6 +39,21 @@ DEUTSCH_NOTE = (
 )
 
 
+#: What the Deutsch rows of an unstable sweep must not be read as.
+DEUTSCH_UNSTABLE = (
+    "the analysis finds the rotor unstable (unstable_ranges): the criterion's verdicts below "
+    "are per body mode, at light damping and exact tuning, and do not make it stable"
+)
+
+MARGINS_NOTE = (
+    "damping ratios seen from nonrotating axes; least over the operating range and over the "
+    "run-up (the sweep below it), refined between the sweep's speeds; margin = least over the "
+    "operating range - required_damping_ratio (0 where none is required); a mode neutral at rest "
+    "(neutral_at_rest) counts only where it vibrates (its frequency seen from rotating axes is not "
+    "zero); growth_margin: the largest real part of the vibrating modes over the sweep"
+)
+
+
 def num(x):
     """A JSON-safe float (None for None, NaN or infinity)."""
     if x is None:
@@ -63,10 +78,30 @@ def open_below_note(speed_text: str) -> str:
     )
 
 
+#: What a range that reaches an end of the sweep means.
+SWEEP_END_NOTE = "the sweep's stop: still growing there, the range may continue above it"
+SWEEP_START_NOTE = "the sweep's start: already growing there, the range may begin below it"
+
+
+def open_ends(result, start, end) -> tuple[bool, bool]:
+    """Whether a range [start, end] [rad/s] reaches the sweep's first (moving) speed and its
+    last: growth there may go on beyond the sweep."""
+    speeds = result.rotor_speed
+    first = float(speeds[0])
+    return bool(first > 0 and start <= first), bool(end >= speeds[-1])
+
+
 def _range(result, start, end) -> dict:
     out = {"start": start, "end": end, "modes": result.unstable_modes(start, end)}
+    at_start, at_stop = open_ends(result, start, end)
     if result.stability.open_below is not None and start == result.stability.open_below:
         out["start_note"] = open_below_note(f"{start:.6g} rad/s")
+    elif at_start:
+        out["start_note"] = SWEEP_START_NOTE
+    out["open_start"] = at_start or "start_note" in out
+    out["open_end"] = at_stop
+    if at_stop:
+        out["end_note"] = SWEEP_END_NOTE
     return out
 
 
@@ -200,7 +235,11 @@ def summary(result) -> dict:
     )
     lag["deutsch"] = [deutsch_entry(e, speeds) for e in result.deutsch]
     lag["deutsch_note"] = DEUTSCH_NOTE
+    if not st.stable:
+        lag["deutsch_overall"] = DEUTSCH_UNSTABLE
     out["lag_damping"] = lag
+    if result.margins is not None:
+        out["margins"] = margins_block(result)
     return out
 
 
@@ -211,7 +250,22 @@ def _max_real_part(result) -> dict:
     out["mode"] = result._mode_at(at, result.real_part)
     out["growth_threshold"] = float(growth_threshold(at))
     out["neutral"] = math.isfinite(value) and bool(is_neutral(value, at))
+    _vibrating(out, result, at)
     return out
+
+
+def _vibrating(out: dict, result, at) -> None:
+    """Whether the mode of a worst value vibrates at its speed (a mode neutral at rest that
+    creeps while overdamped does not: :mod:`groundres.assess.margins`)."""
+    if result.margins is None:
+        return
+    i = int(np.argmin(np.abs(result.rotor_speed - at)))
+    out["vibrating"] = bool(result.margins.vibrating[i, result.labels.index(out["mode"])])
+    if not out["vibrating"]:
+        out["vibrating_note"] = (
+            "a root of a mode neutral at rest that does not vibrate there (overdamped at low speed, it "
+            "creeps back to rest): no margin; see margins for the vibrating modes"
+        )
 
 
 def _min_damping_ratio(result) -> dict:
@@ -225,6 +279,7 @@ def _min_damping_ratio(result) -> dict:
     i = int(np.argmin(np.abs(result.rotor_speed - at)))
     size = abs(result.modes.eigenvalue[i, result.labels.index(out["mode"])])
     out["neutral"] = math.isfinite(value) and bool(is_neutral(value * size, at))
+    _vibrating(out, result, at)
     return out
 
 
@@ -256,4 +311,80 @@ def deutsch_entry(e: DeutschEntry, speeds) -> dict:
         out["limitation"] = e.limitation
     out["satisfied"] = e.satisfied
     out["satisfied_reason"] = e.reason
+    return out
+
+
+def _least(least) -> dict | None:
+    """A Least (:class:`groundres.assess.margins.Least`) as summary.json writes it."""
+    return (
+        None
+        if least is None
+        else {"value": num(least.value), "speed": num(least.speed), "neutral": least.neutral}
+    )
+
+
+def margins_block(result) -> dict:
+    """The ``margins`` block of summary.json (:mod:`groundres.assess.margins`)."""
+    m = result.margins
+    lo, hi = m.operating_range
+    out = {
+        "operating_range": {"start": lo, "stop": hi, "given": m.operating_given},
+        "required_damping_ratio": num(m.required_damping_ratio),
+        "verdict": m.verdict,
+    }
+    if not m.operating_given:
+        out["operating_range"]["note"] = "the case gives none: the whole sweep"
+    if m.required_damping_ratio is None:
+        out["required_damping_ratio_reason"] = "none required: margins are to zero, the stability boundary"
+    out["run_up"] = {"start": m.run_up[0], "stop": m.run_up[1]} if m.run_up else None
+    if m.run_up is None:
+        out["run_up_reason"] = "the operating range starts at the sweep's start"
+    for key, where in (("least_damping_ratio", "operating"), ("least_damping_ratio_run_up", "run_up")):
+        least = m.least(where)
+        out[key] = None if least is None else {"value": least[0], "speed": least[1], "mode": least[2]}
+        if least is not None:
+            out[key]["neutral"] = least[0] == 0.0
+        if least is None:
+            out[f"{key}_reason"] = (
+                "no run-up" if m.run_up is None and where == "run_up" else "no mode vibrates there"
+            )
+    put(out, "margin", m.margin, "no mode vibrates in the operating range")
+    growth = m.growth_margin
+    out["growth_margin"] = (
+        None
+        if growth is None
+        else {
+            "value": growth[0],
+            "speed": growth[1],
+            "mode": growth[2],
+            "neutral": bool(is_neutral(growth[0], growth[1])),
+        }
+    )
+    if growth is None:
+        out["growth_margin_reason"] = "no mode vibrates in the sweep"
+    out["neutral_at_rest"] = list(m.neutral_at_rest)
+    rows = []
+    for mode in m.modes:
+        row = {"mode": mode.mode}
+        for key, least in (
+            ("least_damping_ratio", mode.operating),
+            ("least_damping_ratio_run_up", mode.run_up),
+            ("largest_real_part", mode.largest_real_part),
+        ):
+            row[key] = _least(least)
+            if least is None:
+                row[f"{key}_reason"] = (
+                    "no run-up"
+                    if key.endswith("run_up") and m.run_up is None
+                    else "it does not vibrate there"
+                )
+        put(
+            row, "margin", mode.margin(m.required_damping_ratio), "it does not vibrate in the operating range"
+        )
+        row["grows"] = mode.grows
+        row["verdict"] = mode.verdict
+        rows.append(row)
+    out["modes"] = rows
+    out["units"] = {"damping_ratio": "1", "speed": "rad/s", "real_part": "1/s"}
+    out["note"] = MARGINS_NOTE
     return out

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..assess.margins import Margins
 from ..assess.stability import Stability, growth_threshold
 from ..methods import Method
 from ..model.params import Case
@@ -52,6 +53,9 @@ class SweepResult:
     accuracy : dict, optional
         How the roots were found and how accurately (solver, tolerances, step
         counts, growth threshold), JSON-ready; output folders record it.
+    margins : Margins, optional
+        The damping each mode keeps over the operating range and the run-up,
+        against the requirement (:class:`groundres.assess.margins.Margins`).
     """
 
     case: Case
@@ -66,6 +70,7 @@ class SweepResult:
     weights: np.ndarray | None = None
     no_exact_lag_damping: tuple | None = None
     accuracy: dict | None = None
+    margins: Margins | None = None
 
     @property
     def labels(self) -> list[str]:

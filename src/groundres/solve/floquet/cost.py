@@ -44,6 +44,9 @@ _PER_SPEED = 16.0
 #: four), in analyses of one speed: the bisection's refinements of the worst
 #: speeds; and of the refinements of the sweep's worst values.
 _SEARCH_EVALUATIONS, _REFINEMENTS = 600, 40
+#: Analyses of one speed per coordinate for the margins (:mod:`groundres.assess.margins`):
+#: three golden-section refinements (operating range, run-up, largest real part) of each mode.
+_MARGIN_EVALUATIONS = 3 * 16
 
 
 def estimated_cost(system: System, speeds, lift: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -163,13 +166,16 @@ def check_work(system: System, speeds, probe, search, speed_unit, time_invariant
     The work counts the sweep ``speeds`` (with its lifted problems), the internal
     grid ``probe``, the damping search over ``search`` (four full scans and its
     refinements, at the grid's mean cost per speed; None: no search,
-    :func:`groundres.assess.damping_search.periodic_search_grid`) and the
-    refinements of the worst values. ``speed_unit`` and ``time_invariant`` as for
+    :func:`groundres.assess.damping_search.periodic_search_grid`), the
+    refinements of the worst values and those of each mode's margins
+    (:mod:`groundres.assess.margins`). ``speed_unit`` and ``time_invariant`` as for
     :func:`check_floquet_work`.
     """
     check_slowest(speeds)
     work, steps = floquet_work(system, speeds)
-    work += floquet_work(system, probe, lift=False)[0]
+    probed, _ = floquet_work(system, probe, lift=False)
+    typical = probed / max(len(probe), 1) if len(probe) else work / max(len(speeds), 1)
+    work += probed + _MARGIN_EVALUATIONS * system.size * typical
     if search is not None:
         scans, _ = floquet_work(system, search, lift=False)
         typical = scans / max(len(search), 1)
