@@ -41,8 +41,8 @@ import numpy as np
 from ..modes.identify import damping_ratio
 from .stability import continuing_roots, growth_threshold, interpolated
 
-#: Relative accuracy of a refined least damping ratio's speed (eigen-analysis, periodic).
-XTOL = {False: 1e-5, True: 1e-3}
+#: Relative accuracy of a refined extreme's speed (eigen-analysis, periodic).
+XTOL = {False: 1e-6, True: 1e-4}
 #: A mode does not vibrate where its frequency seen from rotating axes is below this
 #: fraction of its root's size (or of the rotor speed): an overdamped pair, real in the blades' axes.
 STILL = 1e-2

@@ -53,7 +53,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
     every --method, and entry 1 is the baseline: e.g. two cases, or one case
     by two methods (groundres compare hammond-one-damper-isotropic --method
     eigen --method floquet). Prints, and writes as differences.csv and
-    differences.json, how each entry's unstable ranges and largest real part
+    differences.json, how each entry's unstable ranges, growth margin and least damping ratio
     differ from the baseline's (data files in rad/s and 1/s, as computed, with
     each difference's round-off tolerance; the table in the first case's unit,
     a difference within its tolerance as "0 (round-off)"). Also writes
@@ -137,8 +137,10 @@ def _quantity(row: dict, unit: str) -> str:
         "unstable_width": f"unstable width [{unit}]",
         "range_start": f"range {k} start [{unit}]",
         "range_end": f"range {k} end [{unit}]",
-        "max_real_part": "largest real part [1/s]",
-        "max_real_part_speed": f"  at [{unit}]",
+        "growth_margin": "growth margin [1/s]",
+        "growth_margin_speed": f"  at [{unit}]",
+        "least_damping_ratio": "least damping ratio [-]",
+        "least_damping_ratio_speed": f"  at [{unit}]",
     }[q]
 
 
@@ -148,19 +150,19 @@ ROUND_OFF_TEXT = "0 (round-off)"
 
 def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
     """Baseline, entry and difference as the table shows them (speeds in the first case's
-    unit): round-off never as a number. ``neutral``: entry number -> whether its largest
-    real part is neutral (within the growth threshold of zero)."""
+    unit): round-off never as a number. ``neutral``: entry number -> whether its growth
+    margin is neutral (within the growth threshold of zero)."""
     from ..model.units import SPEED_UNITS
 
     speed = row["unit"] == "rad/s"
     width = row["quantity"] == "unstable_width"
-    peak = row["quantity"] in ("max_real_part", "max_real_part_speed")
+    peak = row["quantity"] in ("growth_margin", "growth_margin_speed")
 
     def value(v, number):
         if v is None:
             return "-"
-        if peak and neutral[number]:  # round-off: a neutral largest real part, and where it peaks
-            return "neutral" if row["quantity"] == "max_real_part" else "-"
+        if peak and neutral[number]:  # round-off: a neutral growth margin, and where it peaks
+            return "neutral" if row["quantity"] == "growth_margin" else "-"
         if isinstance(v, int):
             return str(v)
         if speed and not width:
@@ -172,7 +174,7 @@ def _cells(row: dict, sweep, neutral: dict) -> tuple[str, str, str]:
         diff = row["note"] or "-"
     elif d == 0:
         diff = "0"
-    elif row["quantity"] == "max_real_part_speed" and (neutral[1] or neutral[row["entry"]]):
+    elif row["quantity"] == "growth_margin_speed" and (neutral[1] or neutral[row["entry"]]):
         diff = "- (neutral)"
     elif row["within_round_off"]:
         diff = ROUND_OFF_TEXT
@@ -223,7 +225,7 @@ def _print(console, comparison, rows, out_dir, fmt) -> None:
         )
     if "neutral" in shown:
         notes.append(
-            f"neutral: the largest real part within the growth threshold of zero ({threshold_text()}): "
+            f"neutral: the growth margin within the growth threshold of zero ({threshold_text()}): "
             "round-off, not growth; where it peaks is no result."
         )
     if sweep.reference:

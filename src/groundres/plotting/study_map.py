@@ -1,10 +1,13 @@
 """The picture of a design study: stability over the varied keys.
 
-Two keys: a filled map of the largest real part (blue decays, red grows, the
-colour scale symmetric about zero) with the stability boundary drawn bold,
+Two keys: a filled map of the growth margin, the largest real part of the
+vibrating modes (blue decays, red grows, the colour scale symmetric about
+zero; :mod:`groundres.assess.margins`), with the stability boundary drawn
+bold where it crosses zero between the grid's points,
 the case's own design point marked and the Deutsch requirement drawn where
 it applies; with failures, one map for the worst failure at each point and
-one per failure. One key: the measures against the key, a line per failure.
+one per failure. One key: the growth margin and the least damping ratio
+over the operating range against the key, a line per failure.
 More keys: small multiples over the third key's values (the worst failure).
 """
 
@@ -32,7 +35,7 @@ def _suptitle(fig, text):
     fig.suptitle("\n".join(textwrap.wrap(figure_title(text), width)), fontsize=10)
 
 
-def failure_groups(ds, variable: str = "max_real_part") -> list[tuple[str, object]]:
+def failure_groups(ds, variable: str = "growth_margin") -> list[tuple[str, object]]:
     """(name, data) of each failure, those with identical measures drawn once (the single
     failures of alike blades are the same rotor turned: "blades 1, 2, 3, 4")."""
     groups = []
@@ -72,8 +75,8 @@ def _worst(ds):
         return ds
     # (a failure that could not be computed leaves the worst unknown: NaN, not skipped)
     return ds.assign(
-        max_real_part=ds.max_real_part.max(_FAILURE, skipna=False),
-        unstable_width=ds.unstable_width.max(_FAILURE, skipna=False),
+        growth_margin=ds.growth_margin.max(_FAILURE, skipna=False),
+        least_damping_ratio=ds.least_damping_ratio.min(_FAILURE, skipna=False),
         stable=ds.stable.all(_FAILURE),
     ).drop_dims(_FAILURE)
 
@@ -94,7 +97,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
     """
     from matplotlib.figure import Figure
 
-    keys = [d for d in ds.max_real_part.dims if d != _FAILURE]
+    keys = [d for d in ds.growth_margin.dims if d != _FAILURE]
     failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else []
     if len(keys) == 1:
         fig = Figure(figsize=(8.0, 6.5), layout="constrained")
@@ -106,8 +109,8 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
         fig = Figure(figsize=(4.6 * cols + 1.2, 4.0 * rows + 0.8), layout="constrained")
         axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
         scale = (
-            float(np.nanmax(np.abs(ds.max_real_part.values)))
-            if np.isfinite(ds.max_real_part.values).any()
+            float(np.nanmax(np.abs(ds.growth_margin.values)))
+            if np.isfinite(ds.growth_margin.values).any()
             else 1.0
         )
         scale = scale or 1.0
@@ -130,7 +133,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
             ax.set_visible(False)
         if image is not None:
             bar = fig.colorbar(image, ax=axes[: len(panels)].tolist(), shrink=0.9)
-            bar.set_label("largest real part [1/s] (red grows)")
+            bar.set_label("growth margin: largest real part of the vibrating modes [1/s] (red grows)")
         if isinstance(deutsch, str):
             fig.text(0.01, 0.003, f"Deutsch criterion: {deutsch}", fontsize=8, va="bottom")
     _suptitle(fig, title or ds.attrs.get("title", "groundres study"))
@@ -165,17 +168,18 @@ def _panels(ds, keys, failures):
 def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
     x, y = np.asarray(part[xkey], float), np.asarray(part[ykey], float)
     stable = np.asarray(part.stable.transpose(ykey, xkey), bool)
-    # (a stable point's largest real part above zero is a neutral root's round-off, within the
+    # (a stable point's growth margin above zero is a neutral root's round-off, within the
     # growth threshold: drawn as zero, white, never as growth)
-    z = np.asarray(part.max_real_part.transpose(ykey, xkey), float)
+    z = np.asarray(part.growth_margin.transpose(ykey, xkey), float)
     z = np.where(stable & (z > 0), 0.0, z)
     levels = np.linspace(-scale, scale, 21)
     image = None
     if len(x) > 1 and len(y) > 1:
         image = ax.contourf(x, y, np.clip(z, -scale, scale), levels=levels, cmap="RdBu_r", extend="both")
-        if 0 < stable.mean() < 1:  # (the largest real part signed by the verdict: its zero lies between
-            # the grid's stable and unstable points, where the real part crosses the threshold)
-            signed = np.where(stable, -np.abs(z), np.abs(z))
+        if 0 < stable.mean() < 1:  # (the growth margin, continuous across the boundary, signed by
+            # the verdict: its zero lies between the grid's stable and unstable points)
+            tiny = 1e-300
+            signed = np.where(stable, np.minimum(z, -tiny), np.maximum(z, tiny))
             ax.contour(x, y, signed, levels=[0.0], colors="black", linewidths=2.2)
             ax.plot([], [], color="black", linewidth=2.2, label="stability boundary")
     else:
@@ -196,21 +200,26 @@ def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
 
 
 def _one_key(fig, ds, key, failures, design):
-    ax_real, ax_width = fig.subplots(2, 1, sharex=True)
+    ax_real, ax_ratio = fig.subplots(2, 1, sharex=True)
     x = np.asarray(ds[key], float)
     series = failure_groups(ds) if failures else [("", ds)]
     for name, part in series:
         label = name or None
-        ax_real.plot(x, part.max_real_part.values, marker=".", label=label)
-        ax_width.plot(x, part.unstable_width.values, marker=".", label=label)
+        ax_real.plot(x, part.growth_margin.values, marker=".", label=label)
+        ax_ratio.plot(x, 100 * part.least_damping_ratio.values, marker=".", label=label)
     if failures:
         worst = _worst(ds)
-        ax_real.plot(x, worst.max_real_part.values, color="black", linewidth=2.2, label="worst")
+        ax_real.plot(x, worst.growth_margin.values, color="black", linewidth=2.2, label="worst")
+        ax_ratio.plot(x, 100 * worst.least_damping_ratio.values, color="black", linewidth=2.2, label="worst")
     ax_real.axhline(0.0, color="black", linewidth=0.8)
-    ax_real.set_ylabel("largest real part [1/s]")
-    ax_width.set_ylabel("width of the unstable ranges [rad/s]")
-    ax_width.set_xlabel(_label(ds, key))
-    for ax in (ax_real, ax_width):
+    required = ds.attrs.get("required_damping_ratio")
+    if required is not None and np.isfinite(required):
+        ax_ratio.axhline(100 * required, color="0.1", linestyle="-.", linewidth=1.3, label="required")
+    ax_ratio.axhline(0.0, color="black", linewidth=0.8)
+    ax_real.set_ylabel("growth margin [1/s]\n(largest real part of the vibrating modes)")
+    ax_ratio.set_ylabel("least damping ratio over the\noperating range [%]")
+    ax_ratio.set_xlabel(_label(ds, key))
+    for ax in (ax_real, ax_ratio):
         if design and key in design:
             ax.axvline(design[key], color="goldenrod", linestyle=":", label="design point")
         ax.grid(alpha=0.3)

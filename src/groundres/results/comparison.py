@@ -34,8 +34,10 @@ QUANTITIES = {
     "unstable_width": ("total width of the unstable ranges", "rad/s"),
     "range_start": ("start of an unstable range", "rad/s"),
     "range_end": ("end of an unstable range", "rad/s"),
-    "max_real_part": ("largest real part over the sweep", "1/s"),
-    "max_real_part_speed": ("rotor speed of the largest real part", "rad/s"),
+    "growth_margin": ("growth margin: largest real part of the vibrating modes over the sweep", "1/s"),
+    "growth_margin_speed": ("rotor speed of the growth margin", "rad/s"),
+    "least_damping_ratio": ("least damping ratio of the vibrating modes over the operating range", "1"),
+    "least_damping_ratio_speed": ("rotor speed of the least damping ratio", "rad/s"),
 }
 
 #: Round-off of a range end, relative to the speed [-]. An end is the root of
@@ -52,6 +54,16 @@ SPEED_ROUND_OFF = 1e-7
 #: (:mod:`groundres.assess.stability`); a value error d moves it by a further
 #: ``sqrt(2 d / abs(f''))``. Ten times the search tolerance.
 PEAK_SPEED_ROUND_OFF = 1e-5
+#: Round-off of the speed of a margin (the growth margin's, the least damping ratio's),
+#: relative [-]: found by golden-section search to 1e-4 of the speed for a periodic
+#: analysis (1e-6 eigen, :data:`groundres.assess.margins.XTOL`); ten times that.
+MARGIN_SPEED_ROUND_OFF = 1e-3
+#: Round-off of a least damping ratio [-]: a smooth minimum found to 1e-4 of its speed
+#: moves by ~f'' (1e-4 w)^2 / 2, under 1e-8 on the shipped cases; where the minimum lies
+#: at a label's exchange of branches, at the sweep's own speeds; with roots accurate to
+#: ~1e-9 of their size. Measured: eigen and Floquet least damping ratios of
+#: hammond-one-damper-isotropic agree to 3e-9.
+DAMPING_RATIO_ROUND_OFF = 1e-6
 
 #: The tolerance of each quantity, as differences.json states it.
 ROUND_OFF = {
@@ -59,14 +71,21 @@ ROUND_OFF = {
     "unstable_width": f"{SPEED_ROUND_OFF:g} x the sum of the ends of the ranges (the larger of the two sums)",
     "range_start": f"{SPEED_ROUND_OFF:g} x the larger of the two speeds",
     "range_end": f"{SPEED_ROUND_OFF:g} x the larger of the two speeds",
-    "max_real_part": (
+    "growth_margin": (
         f"the growth threshold at the larger of the two speeds: {GROWTH_PER_RADIAN:g} 1/s per rad/s "
         f"+ {GROWTH_FLOOR:g} 1/s (below it a real part is neutral, round-off; where both are neutral "
         "the difference is round-off whatever its size)"
     ),
-    "max_real_part_speed": (
-        f"{PEAK_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat maximum, "
-        "found to 1e-6 relative); where a largest real part is neutral its speed is no result"
+    "growth_margin_speed": (
+        f"{MARGIN_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat maximum, "
+        "found to 1e-4 relative); where a growth margin is neutral its speed is no result"
+    ),
+    "least_damping_ratio": (
+        f"{DAMPING_RATIO_ROUND_OFF:g} (a damping ratio refined between the sweep's speeds)"
+    ),
+    "least_damping_ratio_speed": (
+        f"{MARGIN_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat minimum); "
+        "where a least damping ratio is neutral its speed is no result"
     ),
 }
 
@@ -264,10 +283,10 @@ def _value(x):
 
 
 def neutral_max(result: SweepResult) -> bool:
-    """Whether the largest real part of ``result`` is neutral: within the growth
-    threshold of zero at its speed (round-off, neither growth nor decay)."""
-    value, speed = (_value(x) for x in result.stability.max_real_part)
-    return value is not None and speed is not None and bool(is_neutral(value, speed))
+    """Whether the growth margin of ``result`` is neutral: within the growth threshold of zero
+    at its speed (round-off, neither growth nor decay), or there is none."""
+    growth = result.margins.growth_margin
+    return growth is None or bool(is_neutral(growth[0], growth[1]))
 
 
 def _row(entry, quantity, baseline, value, tolerance, number=None, note=None, round_off=False) -> dict:
@@ -343,16 +362,43 @@ def _rows(entry, base: SweepResult, other: SweepResult) -> list[dict]:
             wa, wb = a[i] if a else None, b[i] if b else None
             tol = SPEED_ROUND_OFF * _largest(wa, wb)
             rows.append(_row(entry, quantity, wa, wb, tol, number=k, note=note))
-    (va, wa), (vb, wb) = base.stability.max_real_part, other.stability.max_real_part
+    (va, wa), (vb, wb) = ((r.margins.growth_margin or (None, None))[:2] for r in (base, other))
     neutral = neutral_max(base), neutral_max(other)
     threshold = float(growth_threshold(_largest(wa, wb)))
-    rows.append(_row(entry, "max_real_part", va, vb, threshold, round_off=all(neutral)))
-    note = None
-    if all(neutral):
-        note = "both largest real parts are neutral (round-off): where they peak is no result"
-    elif any(neutral):
-        which = "the baseline's" if neutral[0] else "this entry's"
-        note = f"{which} largest real part is neutral (round-off): where it peaks is no result"
-    tol = PEAK_SPEED_ROUND_OFF * _largest(wa, wb)
-    rows.append(_row(entry, "max_real_part_speed", wa, wb, tol, note=note, round_off=all(neutral)))
+    rows.append(_row(entry, "growth_margin", va, vb, threshold, round_off=all(neutral)))
+    rows.append(
+        _row(
+            entry,
+            "growth_margin_speed",
+            wa,
+            wb,
+            MARGIN_SPEED_ROUND_OFF * _largest(wa, wb),
+            note=_neutral_note(neutral, "growth margin"),
+            round_off=all(neutral),
+        )
+    )
+    (za, xa), (zb, xb) = ((r.margins.least("operating") or (None, None))[:2] for r in (base, other))
+    zero = za == 0.0, zb == 0.0  # (a neutral least: round-off, where it lies is no result)
+    rows.append(_row(entry, "least_damping_ratio", za, zb, DAMPING_RATIO_ROUND_OFF))
+    rows.append(
+        _row(
+            entry,
+            "least_damping_ratio_speed",
+            xa,
+            xb,
+            MARGIN_SPEED_ROUND_OFF * _largest(xa, xb),
+            note=_neutral_note(zero, "least damping ratio"),
+            round_off=all(zero),
+        )
+    )
     return rows
+
+
+def _neutral_note(neutral, what: str) -> str | None:
+    """What a pair of neutral flags (baseline, entry) makes of where ``what`` lies."""
+    if all(neutral):
+        return f"both {what}s are neutral (round-off): where they lie is no result"
+    if any(neutral):
+        which = "the baseline's" if neutral[0] else "this entry's"
+        return f"{which} {what} is neutral (round-off): where it lies is no result"
+    return None

@@ -1,9 +1,13 @@
-"""What a study records at each grid point: stability measures of one speed sweep.
+"""What a study records at each grid point: stability measures and margins of one speed sweep.
 
 The measures are those of ``groundres run`` on the same case (its
-``summary.json``): the unstable ranges (ends to 1e-10 relative) and the
-refined worst values of :func:`groundres.analyze`, without the exact
-lag-damping search, which a study's own grid replaces.
+``summary.json``): the margins (:mod:`groundres.assess.margins`: the growth
+margin and the least damping ratios of the vibrating modes, which move with
+the design on both sides of the stability boundary and are continuous across
+it, so that a map can draw the boundary between its points), the unstable
+ranges (ends to 1e-10 relative) and the refined worst values of every root,
+all from :func:`groundres.analyze`, without the exact lag-damping search,
+which a study's own grid replaces.
 """
 
 from __future__ import annotations
@@ -17,6 +21,14 @@ from ..errors import CaseError, MethodError, ModelRangeError, SpeedRangeError
 
 #: name -> (dtype, units, long_name): the data variables of a study.
 MEASURES = {
+    "growth_margin": (
+        "f8",
+        "1/s",
+        "largest real part of the vibrating modes over the sweep (positive grows)",
+    ),
+    "least_damping_ratio": ("f8", "1", "least damping ratio of the vibrating modes over the operating range"),
+    "least_damping_ratio_run_up": ("f8", "1", "least damping ratio over the run-up (NaN without one)"),
+    "margin": ("f8", "1", "least damping ratio over the operating range minus the required one (or zero)"),
     "max_real_part": ("f8", "1/s", "largest real part of the roots over the sweep"),
     "min_damping_ratio": ("f8", "1", "smallest damping ratio of the roots over the sweep"),
     "unstable_width": ("f8", "rad/s", "total width of the unstable rotor-speed ranges"),
@@ -49,10 +61,16 @@ def stability_of(case):
 
 
 def of_case(case) -> dict:
-    """The measures of one case (scalars, :func:`stability_of`)."""
-    stability = stability_of(case)
+    """The measures of one case (scalars; :func:`groundres.analyze` without the damping search)."""
+    result = analyze(case, lag_damping_search=False)
+    stability, margins = result.stability, result.margins
     ranges = stability.unstable_ranges
+    growth, least, run_up = margins.growth_margin, margins.least("operating"), margins.least("run_up")
     return {
+        "growth_margin": math.nan if growth is None else float(growth[0]),
+        "least_damping_ratio": math.nan if least is None else float(least[0]),
+        "least_damping_ratio_run_up": math.nan if run_up is None else float(run_up[0]),
+        "margin": math.nan if margins.margin is None else float(margins.margin),
         "max_real_part": float(stability.max_real_part[0]),
         "min_damping_ratio": float(stability.min_damping_ratio[0]),
         "unstable_width": float(sum(b - a for a, b in ranges)),

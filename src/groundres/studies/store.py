@@ -84,6 +84,8 @@ def template(grid: Grid, case, units: dict) -> xr.Dataset:
         "fingerprint": grid.fingerprint(case.text),
         "groundres_version": __version__,
     }
+    if case.sweep.required_damping_ratio is not None:  # (the margin's reference: drawn on the map)
+        attrs["required_damping_ratio"] = float(case.sweep.required_damping_ratio)
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -104,6 +106,11 @@ def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
         raise StudyError(f"{path}: not a readable study store ({type(err).__name__}: {err})") from None
     if stored.attrs.get("fingerprint") != fresh.attrs["fingerprint"]:
         raise StudyError(f"{path}: made for {_difference(stored, fresh)}; give another --out or remove it")
+    if set(stored.data_vars) != set(fresh.data_vars):  # (an earlier groundres kept other measures)
+        raise StudyError(
+            f"{path}: its measures ({', '.join(sorted(stored.data_vars))}) are not this groundres' "
+            f"({', '.join(sorted(fresh.data_vars))}); give another --out or remove it"
+        )
     return np.asarray(stored[DONE].values, bool)
 
 

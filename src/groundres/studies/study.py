@@ -56,8 +56,10 @@ def study(case, vary: dict, failures: str | None = None, client=None, out=None, 
     -------
     xarray.Dataset
         One dimension per varied key (and ``failure``), coordinates in the
-        case's units; variables ``max_real_part`` [1/s], ``min_damping_ratio``
-        [-], ``unstable_width`` [rad/s], ``first_unstable_speed`` [rad/s],
+        case's units; variables ``growth_margin`` [1/s], ``least_damping_ratio``
+        and ``least_damping_ratio_run_up`` [-], ``margin`` [-] (the margins:
+        :mod:`groundres.assess.margins`), ``max_real_part`` [1/s],
+        ``min_damping_ratio`` [-], ``unstable_width`` [rad/s], ``first_unstable_speed`` [rad/s],
         ``stable`` and ``error`` (why a point has no measures); attributes
         ``case_text`` and ``groundres_version``.
 
