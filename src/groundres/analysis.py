@@ -45,6 +45,7 @@ def analyze(
     speeds=None,
     progress=None,
     lag_damping_search: bool = True,
+    margins_of_every_mode: bool = True,
 ) -> SweepResult:
     """Analyse a case over its speed sweep.
 
@@ -66,6 +67,11 @@ def analyze(
     lag_damping_search : bool
         Search the exact minimum lag damping (:mod:`groundres.assess.damping_search`);
         without it ``exact_lag_damping`` is None with the reason ("skipped", None).
+    margins_of_every_mode : bool
+        Refine every mode's margins between the sweep's speeds
+        (:func:`groundres.assess.margins.margins`); without it only the overall least
+        damping ratio and growth margin are refined, the other modes' values taken at
+        the sweep's speeds (what a study records; a periodic analysis costs about half).
 
     Returns
     -------
@@ -113,6 +119,7 @@ def analyze(
             roots, modes, speeds, w, unique=method is Method.MULTIBLADE
         )
 
+    floor = cost.lowest_periodic_speed(system, speeds, probe) if method.periodic else 0.0
     assessed = stability.assess(
         speeds,
         modes.real_part.max(-1),
@@ -123,7 +130,7 @@ def analyze(
         probe,
         method.periodic,
         closeness=solver.closeness,
-        floor=cost.lowest_periodic_speed(system, speeds, probe) if method.periodic else 0.0,
+        floor=floor,
         rough_growth=stability.rough_growth_of(solver),
     )
     report("range ends", 1, 1)
@@ -162,7 +169,13 @@ def analyze(
     )
     report("margins", 0, None)
     result.margins = margins.margins(
-        result, solver.roots, margins.neutral_at_rest(at_rest), method is Method.MULTIBLADE, method.periodic
+        result,
+        solver.roots,
+        margins.neutral_at_rest(at_rest),
+        method is Method.MULTIBLADE,
+        method.periodic,
+        every=margins_of_every_mode,
+        floor=floor,
     )
     report("margins", 1, 1)
     return result

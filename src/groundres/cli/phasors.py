@@ -35,9 +35,16 @@ from .run import STAGES
 @click.option(
     "--gif/--no-gif", default=True, help="Also write an animated mode shape per mode [default: on]."
 )
+@click.option(
+    "--scale",
+    type=click.Choice(["panel", "common"]),
+    default="panel",
+    show_default=True,
+    help="Phasor panels each to its largest displacement, or all to one physical scale (m, rad).",
+)
 @out_option("groundres-out/<case name>-phasors")
 @FORMAT
-def command(case, speed, labels, gif, out, fmt):
+def command(case, speed, labels, gif, scale, out, fmt):
     """Phasor diagrams, rate phases, whirl and animated shapes of modes of CASE at one speed.
 
     Writes phasors_<mode>.<format> (nonrotating and rotating frames; png
@@ -85,25 +92,20 @@ def command(case, speed, labels, gif, out, fmt):
             from ..plotting.phasors import phasor_diagram
 
             with steps.step(f"Phasor diagrams of {label}"):
-                fig = phasor_diagram(shape, speed_text=speed_text)
+                fig = phasor_diagram(shape, speed_text=speed_text, scale=scale)
                 files.write_figure(fig, folder / f"phasors_{slug}.{fmt}")
             frames = {f: [p.as_dict() for p in shape.phasors(f)] for f in ("nonrotating", "rotating")}
             for frame, items in frames.items():
                 rows += [{"mode": label, "frame": frame, **item} for item in items]
             report[label] = _report_entry(shape, frames, the_case.sweep)
             if gif:
-                from ..plotting.animation import mode_animation
+                from ..plotting.animation import mode_animation, write_gif
 
                 anim = mode_animation(shape, speed_text=speed_text)
+                task = f"Animated shape of {label} [frames]"
                 with files.atomic_path(folder / f"mode_{slug}.gif") as tmp:
-                    from matplotlib.animation import PillowWriter
-
-                    task = f"Animated shape of {label} [frames]"
-                    anim.save(
-                        tmp,
-                        writer=PillowWriter(fps=15),
-                        dpi=70,
-                        progress_callback=steps.callback and (lambda i, n, task=task: steps(task, i + 1, n)),
+                    write_gif(
+                        anim, tmp, progress=steps.callback and (lambda i, n, task=task: steps(task, i, n))
                     )
         files.write_json(folder / "phasors.json", report)
         files.write_csv(folder / "phasors.csv", phasor_header(rows[0]), [list(r.values()) for r in rows])

@@ -128,20 +128,23 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
     check_study_folder(out_dir, the_case.text, boundary is not None)
-    client = _client(scheduler, workers or CORES)
+    values = dict(zip(grid.keys, grid.values))
+    done = boundary is None and study.finished(the_case, values, failures, out_dir)
+    client = None if done else _client(scheduler, workers or CORES)  # (finished: no cluster to start)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         _close(client)
         fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
     started = time.perf_counter()
-    values = dict(zip(grid.keys, grid.values))
+    memory = []
     try:
         with _Progress(console, "Boundary lines" if boundary else "Grid points") as progress:
             if boundary is None:
                 ds = study.study(the_case, values, failures, client, out_dir, progress)
             else:
                 ds = study.boundary(the_case, values, boundary, failures, client, progress)
+        memory = _memory(client)
     finally:
         _close(client)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -156,6 +159,8 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
         _report(console, ds, grid, out_dir, seconds, progress.first or 0, fmt)
     else:
         _report_boundary(console, ds, grid, out_dir, seconds, fmt)
+    if memory:
+        console.print(_memory_text(memory))
 
 
 def _client(scheduler, workers):
@@ -169,7 +174,33 @@ def _client(scheduler, workers):
         fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
 
 
+def _memory(client) -> list:
+    """(peak, limit) of each worker [bytes], or nothing where there is no cluster or it cannot say."""
+    if client is None:
+        return []
+    from ..studies.run import memory_of
+
+    try:
+        return memory_of(client)
+    except Exception:  # noqa: BLE001 - a report only: a cluster that cannot answer says nothing
+        return []
+
+
+def _memory_text(memory: list) -> str:
+    gib = 2**30
+    peaks = ", ".join(f"{peak / gib:.2g}" for peak, _ in memory)
+    limits = {limit for _, limit in memory}
+    limit = (
+        f"limit {limits.pop() / gib:.3g} GiB each"
+        if len(limits) == 1 and 0 not in limits
+        else "limits set by the cluster"
+    )
+    return f"Workers: {len(memory)} ({limit}); peak memory {peaks} GiB."
+
+
 def _close(client):
+    if client is None:  # (a finished study: none was started)
+        return
     cluster = getattr(client, "cluster", None)
     client.close()
     if cluster is not None:

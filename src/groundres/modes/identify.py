@@ -26,11 +26,11 @@ rotating-axes or Floquet analysis several. From it:
    The frequency given for a mode is the one at which its labelled content
    moves: the harmonic that holds the largest share of that label's content,
    kept continuous along the label's line (it moves to another harmonic only
-   where that one holds :data:`HARMONIC_RATIO` times more, and such a speed
+   where that one holds :data:`groundres.modes.frequencies.HARMONIC_RATIO` times more, and such a speed
    is flagged). As the dissimilarity of a periodic system vanishes its
    content goes to a single harmonic per root, so the diagram goes to the
    time-invariant one mode by mode. In rotating axes the same, from the
-   rotating-frame frequencies of the label's content.
+   rotating-frame frequencies of the label's content (:data:`groundres.modes.frequencies.ROTATING_RATIO`).
 """
 
 from __future__ import annotations
@@ -40,14 +40,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from .frequencies import ROTATING_RATIO, continuous_choice, label_candidates
 from .pairing import pair_roots
-from .participation import ZERO, group_parts, label_content, label_groups, offsets, own_coordinates
+from .participation import ZERO, label_content, label_groups, offsets, own_coordinates
 
 #: Content fraction within which a label stays with the mode that had it.
 LABEL_MARGIN = 0.05
-#: A label's frequency moves to another harmonic only where that harmonic
-#: holds this many times the content of the one that continues its line.
-HARMONIC_RATIO = 2.0
 #: Harmonics kept each side of the identified one (``Modes.harmonics``).
 WINDOW = 8
 
@@ -85,9 +83,11 @@ class Modes:
         one (a veering, where two branches exchange their character).
     root_label : int ndarray (n_s, n_e)
         Label (index into ``labels``) of the mode each tracked root belongs to.
-    root_real_part : ndarray (n_s, n_e)
-        Real part of each tracked root [1/s]; the two roots of an overdamped
-        mode differ, those of a conjugate pair agree.
+    root_eigenvalue : complex ndarray (n_s, n_e)
+        Each tracked root as the solver found it [1/s] (a Floquet exponent's
+        frequency known modulo the rotor speed); ``root_real_part`` its real
+        part: the two roots of an overdamped mode differ, those of a conjugate
+        pair agree.
     harmonic_change, harmonic_change_rotating : bool ndarray (n_s, n_m)
         The label's frequency moved to another harmonic of its root at this
         speed (periodic systems only): its content there is clearly larger.
@@ -112,12 +112,16 @@ class Modes:
     partner: np.ndarray
     exchange: np.ndarray
     root_label: np.ndarray
-    root_real_part: np.ndarray
+    root_eigenvalue: np.ndarray
     harmonic_change: np.ndarray
     harmonic_change_rotating: np.ndarray
     participation: np.ndarray
     harmonics: np.ndarray
     harmonic_orders: np.ndarray
+
+    @property
+    def root_real_part(self) -> np.ndarray:
+        return self.root_eigenvalue.real
 
     @property
     def damping_ratio(self) -> np.ndarray:
@@ -235,97 +239,6 @@ def _merge_blocks(blocks, block, owned):
     return merged, new_index[block]
 
 
-def _merge_equal(freq, energy, scale):
-    """Energy of every candidate summed with every other at the same frequency."""
-    out = np.zeros_like(energy)
-    tol = ZERO * scale[..., None]
-    for c in range(freq.shape[-1]):
-        same = np.abs(freq - freq[..., c : c + 1]) <= tol
-        out[..., c] = (energy * same).sum(-1)
-    return out
-
-
-def continuous_choice(freq, energy, speeds, ratio=HARMONIC_RATIO):
-    """Pick one candidate frequency per speed and line, continuously.
-
-    Parameters
-    ----------
-    freq, energy : ndarray (n_s, n_lines, C)
-        Candidate frequencies [rad/s] and the content at each.
-    speeds : ndarray (n_s,)
-    ratio : float
-        A line follows, among the candidates holding at least 1/``ratio`` of
-        the largest content, the one nearest its frequency at the
-        neighbouring speed; so it leaves a harmonic only where another holds
-        ``ratio`` times more.
-
-    Each line starts where its content is most concentrated on one candidate
-    (the highest such speed), at the lowest frequency among the candidates
-    that hold at least 1/``ratio`` of the largest content, and is continued
-    from there both ways.
-
-    Returns
-    -------
-    pick : int ndarray (n_s, n_lines)
-    jump : bool ndarray (n_s, n_lines)
-        The pick is not the continuing candidate (the line moved harmonic).
-    """
-    n_s, n_l, n_c = freq.shape
-    raw_total = energy.sum(-1)
-    energy = _merge_equal(freq, energy, speeds[:, None])
-    top = np.maximum(energy.max(-1), 1e-300)
-    # where no candidate holds ratio times the others' content, the lowest
-    # frequency among those that share it (e.g. |omega - Omega| for a body
-    # direction that whirls as much forward as backward)
-    eligible = energy >= top[..., None] / ratio
-    pick = np.argmin(np.where(eligible, freq, np.inf), axis=-1)  # (n_s, n_l)
-    if n_c == 1 or n_s == 1:
-        return pick, np.zeros((n_s, n_l), bool)
-    concentration = energy.max(-1) / np.maximum(raw_total, 1e-300)
-    most = concentration >= concentration.max(0) - 1e-9
-    anchor = n_s - 1 - np.argmax(most[::-1], axis=0)  # (n_l,)
-    lines = np.arange(n_l)
-    here = np.arange(n_s)[:, None]
-    # where only one candidate is eligible it is the pick; elsewhere the line
-    # continues from its neighbour towards the anchor, one speed after another
-    choice = eligible.sum(-1) > 1
-    choice[anchor, lines] = False
-    forward = np.flatnonzero((choice & (here > anchor)).any(1))
-    backward = np.flatnonzero((choice & (here < anchor)).any(1))[::-1]
-    for s, prev in [(s, s - 1) for s in forward] + [(s, s + 1) for s in backward]:
-        go = choice[s] & ((s > anchor) if prev < s else (s < anchor))
-        gap = np.abs(freq[s] - freq[prev, lines, pick[prev]][:, None])
-        cont = np.argmin(np.where(eligible[s], gap, np.inf), axis=-1)
-        pick[s] = np.where(go, cont, pick[s])
-    # a line moved harmonic where it left a nearer candidate that has content:
-    # marked at the later speed of the step, from the neighbour towards the anchor
-    prev = np.where(here > anchor, here - 1, here + 1).clip(0, n_s - 1)
-    gap = np.abs(freq - np.take_along_axis(freq, pick[..., None], -1)[prev, lines, 0][..., None])
-    near = np.argmin(np.where(energy > 1e-6 * top[..., None], gap, np.inf), axis=-1)
-    picked = np.take_along_axis(gap, pick[..., None], -1)[..., 0]
-    moved = (picked > np.take_along_axis(gap, near[..., None], -1)[..., 0] + 0.25 * speeds[:, None]) & (
-        here != anchor
-    )
-    jump = np.where(here > anchor, moved, np.vstack([np.zeros((1, n_l), bool), moved[:-1]]))
-    return pick, jump
-
-
-def _label_candidates(group, position, amp, weight, eigenvalue, orders, speeds):
-    """Candidate frequencies of one label along its column, in both frames.
-
-    amp : (n_s, k, M) harmonics of the label's root; weight : (n_s, k);
-    eigenvalue : (n_s,). Returns (nr_freq, nr_energy) of shape (n_s, M) and
-    (rot_freq, rot_energy) of shape (n_s, P M), P parts per harmonic.
-    """
-    freq = eigenvalue.imag[:, None] + orders[None, :] * speeds[:, None]  # (n_s, M)
-    speed = np.broadcast_to(speeds[:, None], freq.shape)
-    parts = group_parts(group, np.moveaxis(amp, 1, -1), weight[:, None, :], freq, speed)
-    nr_energy = sum(e[..., position] for e, _ in parts)
-    rot_freq = np.concatenate([np.abs(r) for _, r in parts], -1)
-    rot_energy = np.concatenate([e[..., position] for e, _ in parts], -1)
-    return np.abs(freq), nr_energy, rot_freq, rot_energy
-
-
 def _window(array, centre, h, axis_len):
     """array[..., centre + k] for k = -h..h along the last axis (zero outside)."""
     k = centre[..., None] + np.arange(-h, h + 1)
@@ -428,12 +341,12 @@ def identify(
     nr_f, nr_e, rot_f, rot_e = [], [], [], []
     for j, (g, position) in enumerate(owner):
         amp = harmonics[np.arange(n_s)[:, None], list(g.coords), :, rep[:, j : j + 1]]  # (n_s, k, M)
-        cand = _label_candidates(g, position, amp, weights[:, list(g.coords)], lam[:, j], orders, speeds)
+        cand = label_candidates(g, position, amp, weights[:, list(g.coords)], lam[:, j], orders, speeds)
         for store, value in zip((nr_f, nr_e, rot_f, rot_e), cand):
             store.append(value)
     nr_f, nr_e, rot_f, rot_e = (np.stack(x, 1) for x in (nr_f, nr_e, rot_f, rot_e))
     pick, jump = continuous_choice(nr_f, nr_e, speeds)
-    pick_r, jump_r = continuous_choice(rot_f, rot_e, speeds)
+    pick_r, jump_r = continuous_choice(rot_f, rot_e, speeds, ratio=ROTATING_RATIO)
     f_nr = np.take_along_axis(nr_f, pick[..., None], -1)[..., 0]
     f_rot = np.take_along_axis(rot_f, pick_r[..., None], -1)[..., 0]
 
@@ -468,7 +381,7 @@ def identify(
         partner=other,
         exchange=moved,
         root_label=root_label,
-        root_real_part=eigenvalue.real.copy(),
+        root_eigenvalue=eigenvalue.copy(),
         harmonic_change=jump,
         harmonic_change_rotating=jump_r,
         participation=part,

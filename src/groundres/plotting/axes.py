@@ -83,3 +83,61 @@ def checked_modes(modes, labels) -> list[str]:
     if not modes:
         raise ValueError(f"modes: empty; choose from {', '.join(labels)}")
     return modes
+
+
+def canvas(fig, ax, counts: tuple) -> list | None:
+    """Where a picture draws: None for a figure (``fig``, new where None), or the caller's
+    axes (``ax``: one Axes or a sequence of ``counts`` of them). ValueError for both given,
+    a wrong number of axes, or a ``fig`` (figure or subfigure) that already holds axes (a
+    picture adds its own and would draw over them)."""
+    from matplotlib.axes import Axes
+
+    if ax is not None:
+        if fig is not None:
+            raise ValueError("fig and ax: pass one of them (ax draws into the axes given)")
+        axes = [ax] if isinstance(ax, Axes) else list(np.ravel(np.asarray(ax, dtype=object)))
+        if len(axes) not in counts or not all(isinstance(a, Axes) for a in axes):
+            allowed = " or ".join(str(c) for c in counts)
+            raise ValueError(f"ax={ax!r}: must be {allowed} matplotlib Axes")
+        return axes
+    if fig is not None and fig.axes:
+        raise ValueError(
+            f"fig holds {len(fig.axes)} axes already: pass an empty figure or subfigure "
+            "(fig.subfigures(...)), or ax= to draw into axes of your own"
+        )
+    return None
+
+
+def legend(fig, ax, given, handles, labels, fontsize: float = 9) -> None:
+    """The legend: right of the figure where the picture made its axes in a figure laid out
+    by constraints, beside ``ax`` otherwise (the caller's axes, or a figure without them)."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    if given is None and isinstance(root_figure(fig).get_layout_engine(), ConstrainedLayoutEngine):
+        fig.legend(handles, labels, loc="outside right center", fontsize=fontsize, frameon=False)
+    else:
+        beside = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "frameon": False}
+        ax.legend(handles, labels, fontsize=fontsize - 1, **beside)
+
+
+def root_figure(artist):
+    """The figure at the top of an artist's (an Axes', a subfigure's) parents."""
+    root = artist
+    for _ in range(100):  # (a subfigure's parents, up to the figure)
+        if getattr(root, "figure", root) is root or root.figure is None:
+            break
+        root = root.figure
+    return root
+
+
+#: Width a legend beside the axes takes from them once laid out [in].
+LEGEND_WIDTH = 2.0
+
+
+def title_line(ax, fontsize: float, legend: bool = True) -> int:
+    """Characters of a title line that fit the width of ``ax`` at ``fontsize`` [pt], less
+    that of a legend beside it (positions before the layout: the axes span their cell)."""
+    parent = ax.figure  # (a subfigure, or the figure: positions before the layout are relative to it)
+    width = ax.get_position().width * parent.bbox.width / root_figure(ax).dpi  # [in]
+    width -= LEGEND_WIDTH if legend else 0.0
+    return max(20, int(width * 72 / (0.55 * fontsize)))

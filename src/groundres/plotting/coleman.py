@@ -13,12 +13,14 @@ parts a third panel shows the real parts near zero.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from ..assess.stability import growth_threshold
 from ..model.units import FREQUENCY_UNITS, SPEED_UNITS
-from .axes import checked_limits, checked_modes, speed_scale
-from .titles import figure_title
+from .axes import canvas, checked_limits, checked_modes, legend, speed_scale, title_line
+from .titles import TITLE_LINE, figure_title
 
 _COLOURS = {
     "body x": "#222222",
@@ -209,14 +211,16 @@ def coleman_diagram(
     frequency_limits=None,
     real_limits=None,
     modes=None,
+    ax=None,
 ):
     """Draw the Coleman diagram of a sweep result.
 
     Parameters
     ----------
     result : SweepResult
-    fig : matplotlib Figure, optional
-        Figure to draw in (two or three axes are added); a new one if None.
+    fig : matplotlib Figure or SubFigure, optional
+        An empty figure or subfigure to draw in (two or three axes are added, the
+        legend on the right); a new figure if None. ValueError if it already holds axes.
     show_damping_ratio : bool
         Plot the damping ratio instead of the real part in the lower panel.
     speed_axis : {"auto", "unit", "normalised"}
@@ -232,10 +236,15 @@ def coleman_diagram(
     modes : sequence of str, optional
         Labels of the modes to draw (ValueError for a label the result does
         not have); the unstable ranges are shaded whichever modes they are of.
+    ax : matplotlib Axes, or a pair of them, optional
+        Instead of ``fig``: one Axes (the frequencies only) or two (the
+        frequencies, then the real part or damping ratio) that the caller made,
+        with the legend beside the first.
 
     Returns
     -------
     matplotlib Figure
+        The figure drawn in (that of ``ax`` where given).
 
     Examples
     --------
@@ -248,10 +257,15 @@ def coleman_diagram(
         real_limits = checked_limits(real_limits, "real_limits")
     show = np.isin(result.labels, checked_modes(modes, result.labels))
     factor, unit = speed_scale(result, kind=speed_axis)
-    if fig is None:
-        from matplotlib.figure import Figure
+    given = canvas(fig, ax, (1, 2))
+    if given is None:
+        if fig is None:
+            from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(10, 8), layout="constrained")
+            fig = Figure(figsize=(10, 8), layout="constrained")
+    else:
+        fig = given[0].figure
+        show_damping_ratio = show_damping_ratio and len(given) == 2
     w = result.rotor_speed / factor
     freq = result.frequency / factor
     lower = result.damping_ratio if show_damping_ratio else result.real_part
@@ -265,7 +279,9 @@ def coleman_diagram(
     shown_real = result.real_part[:, show]
     bump = float(shown_real.max()) if shown_real.size else 0.0
     zoom = (not show_damping_ratio) and real_limits is None and grows.any() and 0 < bump < _SMALL_BUMP * span
-    if zoom:
+    if given is not None:  # the caller's axes: the frequencies, and the lower panel where two
+        ax_f, ax_d, ax_z = given[0], (given[1] if len(given) == 2 else None), None
+    elif zoom:
         ax_f, ax_d, ax_z = fig.subplots(3, 1, sharex=True, height_ratios=[3, 2, 1.2])
     else:
         ax_f, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
@@ -299,7 +315,7 @@ def coleman_diagram(
             ax.axvspan(lo, hi, color="#1f77b4", alpha=0.07, lw=0)
             for edge in (lo, hi):
                 ax.axvline(edge, color="#1f77b4", lw=0.9, ls="--", alpha=0.6)
-    if required is not None and show_damping_ratio:
+    if required is not None and show_damping_ratio:  # (show_damping_ratio: there is a lower panel)
         ax_d.axhline(required, color="0.1", lw=1.3, ls="-.")
     n_s = len(w)
     succ = modes.successor() if n_s > 1 else np.zeros((0, len(result.labels)), int)
@@ -327,22 +343,22 @@ def coleman_diagram(
                 _draw(ax, xs, ys, [covered[a, i] if a >= 0 else False for a in at], styles[i], colours[i])
             marks_out.extend(marks)
     if not show_damping_ratio:  # every root: continuous, coloured by its mode's label
-        for ax, scale in ((ax_d, span), (ax_z, 3.6 * bump)):
-            if ax is not None:
+        for panel, scale in ((ax_d, span), (ax_z, 3.6 * bump)):
+            if panel is not None:
                 marks = root_lines(
-                    ax, w, modes.root_real_part, modes.root_label, styles, colours, scale, show
+                    panel, w, modes.root_real_part, modes.root_label, styles, colours, scale, show
                 )
-                marks_d += marks if ax is ax_d else []
+                marks_d += marks if panel is ax_d else []
     for i in np.flatnonzero(grows.any(0)):  # the growing stretches, highlighted
         ax_f.plot(w, np.where(grows[:, i], freq[:, i], np.nan), "-", color=colours[i], lw=4.0, alpha=0.5)
     handles_extra = []
     from matplotlib.lines import Line2D
 
     if marks_f or marks_d:
-        for ax, marks in ((ax_f, marks_f), (ax_d, marks_d)):
+        for panel, marks in ((ax_f, marks_f), (ax_d, marks_d)):
             if marks:
                 mx, my = np.array(marks).T
-                ax.plot(mx, my, "o", ms=4.5, mfc="white", mec="0.2", mew=0.9, zorder=5)
+                panel.plot(mx, my, "o", ms=4.5, mfc="white", mec="0.2", mew=0.9, zorder=5)
         handles_extra.append(
             (Line2D([], [], ls="", marker="o", ms=4.5, mfc="white", mec="0.2"), "branches exchange labels")
         )
@@ -358,12 +374,12 @@ def coleman_diagram(
     ax_f.plot(ends, 2 * ends, ":", color="0.75", lw=1.0, label="2/rev")
     for ax in panels[1:]:
         ax.axhline(0.0, color="0.3", lw=0.8)
-    if not show_damping_ratio:
+    if not show_damping_ratio and ax_d is not None:
         # neutral roots of undamped cases sit at zero up to round-off: keep a visible scale
         floor = 0.02 * max(np.nanmax(result.frequency) if np.isfinite(result.frequency).any() else 0, 1e-12)
         if real_limits is None and span < floor and np.nanmax(np.abs(lower[:, show])) < floor:
             ax_d.set_ylim(-floor, floor)
-    if real_limits is not None:
+    if real_limits is not None and ax_d is not None:
         ax_d.set_ylim(*real_limits)
     if ax_z is not None:
         ax_z.set_ylim(-2.0 * bump, 1.6 * bump)
@@ -376,29 +392,32 @@ def coleman_diagram(
         ax_f.set_xlim(0.95 * w[0] - 1e-3, 1.05 * w[0] + 1e-3)
     frame = "nonrotating" if result.frame == "nonrotating" else "rotating"
     ax_f.set_ylabel(
-        f"modal frequency, {frame} frame / reference [-]"
+        f"modal frequency / reference [-]\n({frame} frame)"
         if normalised
-        else f"modal frequency, {frame} frame [{f_unit}]"
+        else f"modal frequency [{f_unit}]\n({frame} frame)"
     )
     if show_damping_ratio:
         ax_d.set_ylabel("damping ratio [-]")
-    else:
-        ax_d.set_ylabel("real part (modal damping) [1/s]")
+    elif ax_d is not None:
+        ax_d.set_ylabel("real part [1/s]\n(modal damping)")
     bottom = panels[-1]
     if normalised:
         ref = result.case.sweep.reference / SPEED_UNITS[result.case.sweep.unit]
         bottom.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {result.case.sweep.unit})")
     else:
         bottom.set_xlabel(f"rotor speed [{unit}]")
-    for ax in panels:
-        ax.grid(True, color="0.9", lw=0.6)
+    for panel in panels:
+        panel.grid(True, color="0.9", lw=0.6)
     ranges = result.stability.unstable_ranges
     if ranges:
         text = "unstable: " + ", ".join(f"{s / factor:.4g} to {e / factor:.4g}" for s, e in ranges)
         text += " [-]" if normalised else f" {unit}"
     else:
         text = "stable over the whole sweep"
-    ax_f.set_title(f"{figure_title(result.case.title)}\n{result.method}, {frame} frame; {text}", fontsize=10)
+    size = 10 if given is None else 9
+    line = min(TITLE_LINE, title_line(ax_f, size))  # (a subfigure's or the caller's axes may be narrow)
+    state = "\n".join(textwrap.wrap(f"{result.method}, {frame} frame; {text}", line))
+    ax_f.set_title(f"{figure_title(result.case.title, line)}\n{state}", fontsize=size)
     handles = [
         Line2D([], [], color=colours[i], lw=1.6, linestyle=_OVER if mostly_covered[i] else styles[i])
         for i in np.flatnonzero(show)
@@ -427,5 +446,5 @@ def coleman_diagram(
         handles.append(Line2D([], [], color="0.1", lw=1.3, ls="-."))
         text = f"required damping ratio\n{100 * required:.3g} %"
         labels.append(text if show_damping_ratio else text + " (drawn on the\ndamping-ratio panel)")
-    fig.legend(handles, labels, loc="outside right center", fontsize=9, frameon=False)
+    legend(fig, ax_f, given, handles, labels)
     return fig

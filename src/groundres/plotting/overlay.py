@@ -1,12 +1,13 @@
-"""Coleman diagrams of several analyses overlaid: one colour per entry.
+"""Coleman diagrams of several analyses overlaid: one colour per mode, one line style per entry.
 
 Frequency and real part (or damping ratio) against rotor speed, and a strip
-with each entry's unstable ranges. An entry is drawn in its colour, the
-baseline (entry 1) widest and faintest, each later entry narrower on top, so
-that lines that coincide show as a thin line inside a wider one. A mode keeps
-its line style in every entry (a marker too beyond six modes). Speeds are on
-one axis for all entries: the first case's unit, or divided by its reference
-speed (:func:`groundres.plotting.axes.speed_scale`).
+with each entry's unstable ranges. A mode has its colour of the Coleman
+diagram (:func:`groundres.plotting.coleman.label_colour`) in every entry; an
+entry has its line style (a marker too beyond five entries), the baseline
+(entry 1) solid, widest and faintest, each later entry narrower on top, so
+that lines that coincide show as a thin line inside a wider one. Speeds are
+on one axis for all entries: the first case's unit, or divided by its
+reference speed (:func:`groundres.plotting.axes.speed_scale`).
 """
 
 from __future__ import annotations
@@ -15,38 +16,36 @@ import numpy as np
 
 from ..assess.stability import growth_threshold
 from ..model.units import FREQUENCY_UNITS, SPEED_UNITS
-from .axes import checked_limits, checked_modes, speed_scale
-from .coleman import label_stretches
-from .titles import figure_title, literal
+from .axes import canvas, checked_limits, checked_modes, legend, speed_scale, title_line
+from .coleman import label_colour, label_stretches
+from .titles import TITLE_LINE, figure_title, literal
 
-#: Colours of the entries, in order.
-ENTRY_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"]
-#: Line styles of the modes, in order; beyond them the same again with a marker.
-_MODE_DASHES = ["-", (0, (4, 2)), (0, (1, 1.5)), (0, (5, 1.5, 1, 1.5))]
-_MODE_MARKERS = ["o", "s", "^", "D", "v", "P", "X"]
+#: Line styles of the entries, in order (the baseline solid); beyond them the same again
+#: with a marker.
+ENTRY_DASHES = ["-", (0, (5, 2)), (0, (1, 1.3)), (0, (6, 2, 1, 2)), (0, (3, 1, 1, 1, 1, 1))]
+_ENTRY_MARKERS = ["o", "s", "^", "D", "v", "P", "X"]
+#: The colour of the unstable ranges (as in the Coleman diagram).
+UNSTABLE = "#d62728"
 #: A small unstable bump: the largest positive real part below this share of the span
 #: (as in the Coleman diagram) adds a panel of the real parts near zero.
 _SMALL_BUMP = 0.06
 #: Widest and narrowest line [pt] (the baseline, the last entry).
-_WIDEST, _NARROWEST = 4.0, 1.2
+_WIDEST, _NARROWEST = 3.2, 1.1
 
 
-def entry_colour(number: int) -> str:
-    """The colour of entry ``number`` (1-based)."""
-    return ENTRY_COLOURS[(number - 1) % len(ENTRY_COLOURS)]
+def entry_style(number: int) -> dict:
+    """The line style of entry ``number`` (1-based)."""
+    k = number - 1
+    style = {"linestyle": ENTRY_DASHES[k % len(ENTRY_DASHES)]}
+    if k >= len(ENTRY_DASHES):
+        style["marker"] = _ENTRY_MARKERS[(k // len(ENTRY_DASHES) - 1) % len(_ENTRY_MARKERS)]
+    return style
 
 
 def _width(k: int, n: int) -> tuple[float, float]:
     """Line width and opacity of the k-th (0-based) of n entries."""
     share = k / (n - 1) if n > 1 else 1.0
-    return _WIDEST + (_NARROWEST - _WIDEST) * share, 0.45 + 0.55 * share
-
-
-def _mode_style(i: int) -> dict:
-    style = {"linestyle": _MODE_DASHES[i % len(_MODE_DASHES)]}
-    if i >= len(_MODE_DASHES):
-        style["marker"] = _MODE_MARKERS[(i // len(_MODE_DASHES) - 1) % len(_MODE_MARKERS)]
-    return style
+    return _WIDEST + (_NARROWEST - _WIDEST) * share, 0.55 + 0.45 * share
 
 
 def _roots(ax, x, values, labels, shown, style):
@@ -58,7 +57,7 @@ def _roots(ax, x, values, labels, shown, style):
     """
     for _, _, _, xs, ys, label, _ in label_stretches(x, values, labels):
         if label in shown:
-            ax.plot(xs, ys, **style(shown.index(label)))
+            ax.plot(xs, ys, **style(label))
 
 
 def _broken(x, y, moved):
@@ -79,14 +78,16 @@ def overlay_diagram(
     frequency_limits=None,
     real_limits=None,
     modes=None,
+    ax=None,
 ):
     """Draw the entries of a comparison on one Coleman diagram.
 
     Parameters
     ----------
     comparison : groundres.results.comparison.Comparison
-    fig : matplotlib Figure, optional
-        Figure to draw in (three axes are added); a new one if None.
+    fig : matplotlib Figure or SubFigure, optional
+        An empty figure or subfigure to draw in (three or four axes are added); a new
+        figure if None. ValueError if it already holds axes.
     show_damping_ratio : bool
         Damping ratio [-] instead of real part [1/s] in the lower panel.
     speed_axis : {"auto", "unit", "normalised"}
@@ -99,11 +100,17 @@ def overlay_diagram(
     modes : sequence of str, optional
         Labels of the modes to draw (of any entry); the unstable ranges show
         regardless.
+    ax : matplotlib Axes, or two of them, optional
+        Instead of ``fig``: axes of your own, the frequencies in the first, the
+        real part (or damping ratio) in the second where two are given (no strip
+        of unstable ranges: they are shaded).
 
     Returns
     -------
     matplotlib Figure
+        The figure drawn in (that of ``ax`` where given).
     """
+    given = canvas(fig, ax, (1, 2))
     entries = comparison.entries
     results = [e.result for e in entries]
     if frequency_limits is not None:
@@ -127,18 +134,24 @@ def overlay_diagram(
     ]
     bump = max((float(g.max()) for g in growing), default=0.0)
     zoom = (not show_damping_ratio) and real_limits is None and 0 < bump < _SMALL_BUMP * span
-    heights = [3, 2] + ([1.2] if zoom else []) + [0.35 + 0.22 * n]
-    if fig is None:
-        from matplotlib.figure import Figure
+    if given is not None:  # the caller's axes: no zoom, no strip
+        fig = given[0].figure
+        show_damping_ratio = show_damping_ratio and len(given) == 2
+        axes = given
+        ax_f, ax_d, ax_s, ax_z = given[0], (given[1] if len(given) == 2 else None), None, None
+    else:
+        heights = [3, 2] + ([1.2] if zoom else []) + [0.35 + 0.22 * n]
+        if fig is None:
+            from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(11, 7.5 + 0.8 * zoom + 0.2 * n), layout="constrained")
-    axes = fig.subplots(len(heights), 1, sharex=True, height_ratios=heights)
-    ax_f, ax_d, ax_s = axes[0], axes[1], axes[-1]
-    ax_z = axes[2] if zoom else None
+            fig = Figure(figsize=(11, 7.5 + 0.8 * zoom + 0.2 * n), layout="constrained")
+        axes = list(fig.subplots(len(heights), 1, sharex=True, height_ratios=heights))
+        ax_f, ax_d, ax_s = axes[0], axes[1], axes[-1]
+        ax_z = axes[2] if zoom else None
+    colours = {label: label_colour(label, i) for i, label in enumerate(comparison.labels)}
     top, lo, hi = 1e-12, np.inf, -np.inf
     for k, entry in enumerate(entries):
         r = entry.result
-        colour = entry_colour(entry.number)
         lw, alpha = _width(k, n)
         w = r.rotor_speed / factor
         lo, hi = min(lo, w[0]), max(hi, w[-1])
@@ -146,103 +159,113 @@ def overlay_diagram(
         moved = r.modes.harmonic_change if r.frame == "nonrotating" else r.modes.harmonic_change_rotating
         every = max(1, len(w) // 10)
 
-        def style(i, colour=colour, lw=lw, alpha=alpha, every=every):
-            return dict(_mode_style(i), color=colour, lw=lw, alpha=alpha, markevery=every, ms=2.5 + lw)
+        def style(label, number=entry.number, lw=lw, alpha=alpha, every=every):
+            return dict(
+                entry_style(number), color=colours[label], lw=lw, alpha=alpha, markevery=every, ms=2 + lw
+            )
 
-        for i, label in enumerate(shown):
+        for label in shown:
             if label not in r.labels:
                 continue
             j = r.labels.index(label)
             # (a gap where the label moves harmonic or to another branch: no vertical step is drawn)
-            ax_f.plot(*_broken(w, freq[:, j], moved[:, j] | r.modes.exchange[:, j]), **style(i))
+            ax_f.plot(*_broken(w, freq[:, j], moved[:, j] | r.modes.exchange[:, j]), **style(label))
             if show_damping_ratio:
-                ax_d.plot(w, r.damping_ratio[:, j], **style(i))
+                ax_d.plot(w, r.damping_ratio[:, j], **style(label))
             if np.isfinite(freq[:, j]).any():
                 top = max(top, float(np.nanmax(freq[:, j])))
         if not show_damping_ratio:  # every root, continuous (a mode's own real part jumps at exchanges)
             labels = np.asarray(r.labels, dtype=object)[r.modes.root_label]
-            for ax in (ax_d, ax_z):
-                if ax is not None:
-                    _roots(ax, w, r.modes.root_real_part, labels, shown, style)
-        panels = (ax_f, ax_d) if ax_z is None else (ax_f, ax_d, ax_z)
+            for panel in (ax_d, ax_z):
+                if panel is not None:
+                    _roots(panel, w, r.modes.root_real_part, labels, shown, style)
+        panels = [p for p in (ax_f, ax_d, ax_z) if p is not None]
         for s, e in r.stability.unstable_ranges:
-            for ax in panels:
-                ax.axvspan(s / factor, e / factor, color=colour, alpha=0.07, lw=0)
-            row = n - k
-            ax_s.broken_barh([(s / factor, (e - s) / factor)], (row - 0.3, 0.6), color=colour)
-            ax_s.plot(
-                [0.5 * (s + e) / factor], [row], "|", color=colour, ms=9, mew=1.5
-            )  # (a narrow one shows)
-        if not r.stability.unstable_ranges:
+            for panel in panels:
+                panel.axvspan(s / factor, e / factor, color=UNSTABLE, alpha=0.06, lw=0)
+            if ax_s is not None:
+                row = n - k
+                ax_s.broken_barh(
+                    [(s / factor, (e - s) / factor)], (row - 0.3, 0.6), color=UNSTABLE, alpha=0.8
+                )
+                ax_s.plot(
+                    [0.5 * (s + e) / factor], [row], "|", color=UNSTABLE, ms=9, mew=1.5
+                )  # (a narrow one shows)
+        if not r.stability.unstable_ranges and ax_s is not None:
             ax_s.text(0.005, n - k, "stable", transform=ax_s.get_yaxis_transform(), va="center", color="0.4")
     ends = np.array([lo, hi])
     ax_f.plot(ends, ends, ":", color="0.45", lw=1.0)
     ax_f.plot(ends, 2 * ends, ":", color="0.75", lw=1.0)
-    for ax in axes[1:-1]:
-        ax.axhline(0.0, color="0.3", lw=0.8)
+    for panel in (ax_d, ax_z):
+        if panel is not None:
+            panel.axhline(0.0, color="0.3", lw=0.8)
     if ax_z is not None:
         ax_z.set_ylim(-2.0 * bump, 1.6 * bump)
         ax_z.set_ylabel("near zero [1/s]")
     ax_f.set_ylim(frequency_limits or (0, 1.05 * top))
-    if real_limits is not None:
+    if real_limits is not None and ax_d is not None:
         ax_d.set_ylim(*real_limits)
     ax_f.set_xlim(lo, hi) if hi > lo else ax_f.set_xlim(0.95 * lo - 1e-3, 1.05 * lo + 1e-3)
-    ax_s.set_ylim(0.4, n + 0.6)
-    ax_s.set_axisbelow(True)  # (the grid behind the bars)
-    ax_s.set_yticks(range(1, n + 1), [str(n + 1 - t) for t in range(1, n + 1)])
-    ax_s.set_ylabel("unstable\n(entry)")
-    _labels(ax_f, ax_d, ax_s, results, unit, show_damping_ratio)
-    for ax in axes:
-        ax.grid(True, color="0.9", lw=0.6)
-    ax_s.grid(False, axis="y")
-    ax_f.set_title(_title(entries), fontsize=10)
-    _legend(fig, entries, shown)
+    if ax_s is not None:
+        ax_s.set_ylim(0.4, n + 0.6)
+        ax_s.set_axisbelow(True)  # (the grid behind the bars)
+        ax_s.set_yticks(range(1, n + 1), [str(n + 1 - t) for t in range(1, n + 1)])
+        ax_s.set_ylabel("unstable\n(entry)")
+    _labels(ax_f, ax_d, ax_s or axes[-1], results, unit, show_damping_ratio)
+    for panel in axes:
+        panel.grid(True, color="0.9", lw=0.6)
+    if ax_s is not None:
+        ax_s.grid(False, axis="y")
+    size = 10 if given is None else 9
+    ax_f.set_title(_title(entries, title_line(ax_f, size)), fontsize=size)
+    legend(fig, ax_f, given, *_legend(entries, shown, colours))
     return fig
 
 
-def _labels(ax_f, ax_d, ax_s, results, unit, show_damping_ratio) -> None:
+def _labels(ax_f, ax_d, bottom, results, unit, show_damping_ratio) -> None:
     frames = {r.frame for r in results}
     frame = f"{frames.pop()} frame" if len(frames) == 1 else "each entry's frame"
     if unit == "-":
-        ax_f.set_ylabel(f"modal frequency, {frame} / reference [-]")
+        ax_f.set_ylabel(f"modal frequency / reference [-]\n({frame})")
         sweep = results[0].case.sweep
         ref = sweep.reference / SPEED_UNITS[sweep.unit]
-        ax_s.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {sweep.unit}, entry 1's)")
+        bottom.set_xlabel(f"rotor speed / reference [-]  (reference {ref:g} {sweep.unit}, entry 1's)")
     else:
-        ax_f.set_ylabel(f"modal frequency, {frame} [{FREQUENCY_UNITS[unit]}]")
-        ax_s.set_xlabel(f"rotor speed [{unit}]")
-    ax_d.set_ylabel("damping ratio [-]" if show_damping_ratio else "real part (modal damping) [1/s]")
+        ax_f.set_ylabel(f"modal frequency [{FREQUENCY_UNITS[unit]}]\n({frame})")
+        bottom.set_xlabel(f"rotor speed [{unit}]")
+    if ax_d is not None:
+        ax_d.set_ylabel("damping ratio [-]" if show_damping_ratio else "real part [1/s]\n(modal damping)")
 
 
-def _title(entries) -> str:
+def _title(entries, line: int) -> str:
     titles = list(dict.fromkeys(e.case.title for e in entries))
     first = (
-        figure_title(titles[0]) if len(titles) == 1 else f"Coleman diagrams of {len(titles)} cases compared"
+        figure_title(titles[0], min(line, TITLE_LINE))
+        if len(titles) == 1
+        else f"Coleman diagrams of {len(titles)} cases compared"
     )
-    return f"{first}\n{len(entries)} entries, entry 1 the baseline (widest line)"
+    return f"{first}\n{len(entries)} entries, entry 1 the baseline (solid, widest)"
 
 
-def _legend(fig, entries, shown) -> None:
+def _legend(entries, shown, colours) -> tuple[list, list]:
+    """The legend's handles and labels: the entries (line styles), then the modes (colours)."""
     from matplotlib.lines import Line2D
 
     n = len(entries)
     blank = Line2D([], [], ls="")
     handles, labels = [blank], ["entries"]
     for k, e in enumerate(entries):
-        lw, alpha = _width(k, n)
-        handles.append(Line2D([], [], color=entry_colour(e.number), lw=lw, alpha=alpha))
+        lw, _ = _width(k, n)
+        handles.append(Line2D([], [], color="0.2", lw=min(lw, 2.2), ms=4, **entry_style(e.number)))
         labels.append(f"{e.number}  {literal(e.case_name)}" + (f"\n    ({e.detail})" if e.detail else ""))
     handles.append(blank)
     labels.append("\nmodes")
-    for i, label in enumerate(shown):
-        handles.append(Line2D([], [], color="0.25", lw=1.6, ms=4, **_mode_style(i)))
+    for label in shown:
+        handles.append(Line2D([], [], color=colours[label], lw=2.2))
         labels.append(label)
     handles += [
         Line2D([], [], ls=":", color="0.45", lw=1.0),
         Line2D([], [], ls=":", color="0.75", lw=1.0),
     ]
     labels += ["1/rev", "2/rev"]
-    legend = fig.legend(handles, labels, loc="outside right center", fontsize=9, frameon=False)
-    for text in legend.get_texts():
-        if text.get_text().strip() in ("entries", "modes"):
-            text.set_fontweight("bold")
+    return handles, labels

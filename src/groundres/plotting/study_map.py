@@ -133,7 +133,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
             ax.set_visible(False)
         if image is not None:
             bar = fig.colorbar(image, ax=axes[: len(panels)].tolist(), shrink=0.9)
-            bar.set_label("growth margin: largest real part of the vibrating modes [1/s] (red grows)")
+            bar.set_label("growth margin [1/s] (red grows)")
         if isinstance(deutsch, str):
             fig.text(0.01, 0.003, f"Deutsch criterion: {deutsch}", fontsize=8, va="bottom")
     _suptitle(fig, title or ds.attrs.get("title", "groundres study"))

@@ -2,17 +2,25 @@
 
 The equations are linear, so amplitudes only scale the initial disturbance:
 what a reader takes from a simulation is whether and how fast the motion
-grows. The first panel shows the amplitude envelope of every body coordinate
-and of the largest lag angle on a log scale, where growth at a rate sigma is a
-straight line exp(sigma t) from the first second on; the linear panels below
-show the motion itself.
+grows, not how large it gets (a linear model grows without bound where the
+real aircraft would be limited by its gear, dampers and structure). So every
+panel shows the motion relative to the initial disturbance d, the largest
+initial displacement given (in m for a translation, rad for an angle: a
+translation of d metres and an angle of d radians both read 1). The first
+panel shows the amplitude envelope of every body coordinate and of the
+largest lag angle on a log scale, where growth at a rate sigma is a straight
+line exp(sigma t) from the first second on; the linear panels below show the
+motion itself, translations and rotations of the body on axes of their own.
 """
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
-from .titles import figure_title
+from .axes import canvas
+from .titles import TITLE_LINE, figure_title
 
 _ANGLES = ("pitch", "roll", "yaw")
 
@@ -60,13 +68,27 @@ def _fitted_line(time, amplitude, rate):
     return np.exp(offset + rate * time)
 
 
-def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_text=None):
-    """Plot a time history (:class:`~groundres.solve.simulate.TimeHistory`).
+def disturbance(initial: dict) -> tuple[float, str]:
+    """The scale d of an initial state (the largest displacement given, or, with rates only,
+    the largest rate times 1 s) and how the pictures name it."""
+    shown = {k: abs(float(v)) for k, v in initial.items() if not k.endswith("_rate") and v}
+    if shown:
+        return max(shown.values()), "the largest initial displacement [m or rad]"
+    rates = [abs(float(v)) for v in initial.values() if v]
+    return (max(rates) if rates else 1.0), "the largest initial rate x 1 s [m or rad]"
+
+
+def time_history(
+    sim, fig=None, title="", growth=None, predicted=None, speed_text=None, initial=None, ax=None
+):
+    """Plot a time history (:class:`~groundres.solve.simulate.TimeHistory`), its motion
+    relative to the initial disturbance (module docstring).
 
     Parameters
     ----------
     sim : TimeHistory
-    fig : matplotlib Figure, optional
+    fig : matplotlib Figure or SubFigure, optional
+        An empty figure or subfigure to draw in; a new figure if None.
     title : str
     growth, predicted : float, optional
         Measured growth rate and the largest Floquet/eigen real part [1/s];
@@ -74,68 +96,85 @@ def time_history(sim, fig=None, title="", growth=None, predicted=None, speed_tex
     speed_text : str, optional
         The rotor speed as the reader knows it (e.g. "255 rpm (1.645 ref)");
         [rad/s] by default.
+    initial : dict, optional
+        The initial state by coordinate name (:func:`groundres.solve.simulate.initial_text`);
+        without it the motion is shown relative to its largest value at the start.
+    ax : matplotlib Axes, optional
+        Instead of ``fig``: axes of your own for the log panel (the envelopes) alone.
 
     Returns
     -------
     matplotlib Figure
     """
-    if fig is None:
-        from matplotlib.figure import Figure
+    from ..solve.simulate import initial_text
 
-        fig = Figure(figsize=(10, 9), layout="constrained")
+    given = canvas(fig, ax, (1,))
     coords = sim.coordinates
+    if initial:
+        scale, what = disturbance(initial)
+        told = f"d = {scale:.3g}, {what}: {initial_text(initial)}"
+    else:
+        scale = float(np.abs(sim.displacement[0]).max()) or 1.0
+        told = f"d = {scale:.3g}, the largest displacement at the start [m or rad]"
+    shown = sim.displacement / scale
     body = [i for i, c in enumerate(coords) if c.kind == "body"]
     kinds = sorted({c.kind for c in coords if c.kind != "body"}, key=["lag", "flap"].index)
-    axes = fig.subplots(2 + len(kinds), 1, sharex=True)
-    log_ax, body_ax, blade_axes = axes[0], axes[1], axes[2:]
     t = sim.time
-    shown = sim.displacement.copy()
-    for i, c in enumerate(coords):
-        if c.kind != "body" or c.name in _ANGLES:
-            shown[:, i] = np.degrees(shown[:, i])
-
-    def unit(i):
-        return "m" if coords[i].kind == "body" and coords[i].name not in _ANGLES else "deg"
 
     def name(i):
         c = coords[i]
         return f"body {c.name}" if c.kind == "body" else f"{c.kind}, blade {c.name}"
 
-    _log_panel(log_ax, t, shown, body, coords, unit, name, growth, predicted)
+    if given is not None:
+        _log_panel(given[0], t, shown, body, coords, name, growth, predicted)
+        given[0].set_xlabel("time [s]")
+        return given[0].figure
+    if fig is None:
+        from matplotlib.figure import Figure
 
-    trans = [i for i in body if unit(i) == "m"]
-    tilt = [i for i in body if unit(i) == "deg"]
+        fig = Figure(figsize=(10, 9), layout="constrained")
+    axes = fig.subplots(2 + len(kinds), 1, sharex=True)
+    log_ax, body_ax, blade_axes = axes[0], axes[1], axes[2:]
+    _log_panel(log_ax, t, shown, body, coords, name, growth, predicted)
+    trans = [i for i in body if coords[i].name not in _ANGLES]
+    tilt = [i for i in body if coords[i].name in _ANGLES]
     for i in trans:
-        body_ax.plot(t, shown[:, i], lw=1.0, label=f"{name(i)} [m]")
-    body_ax.set_ylabel("body translation [m]" if trans else "")
+        body_ax.plot(t, shown[:, i], lw=1.0, label=f"{name(i)}")
+    body_ax.set_ylabel("body translation / d [-]" if trans else "")
     if tilt:
         ax2 = body_ax.twinx() if trans else body_ax
-        for i in tilt:
-            ax2.plot(t, shown[:, i], lw=1.0, ls="--", label=f"{name(i)} [deg]")
-        ax2.set_ylabel("body rotation [deg]")
+        for n, i in enumerate(tilt):
+            ax2.plot(t, shown[:, i], lw=1.0, ls="--", color=f"C{len(trans) + n}", label=f"{name(i)}")
+        ax2.set_ylabel("body rotation / d [-]")
         if ax2 is not body_ax:
             ax2.legend(loc="upper right", fontsize=8)
     body_ax.legend(loc="upper left", fontsize=8)
-    for ax, kind in zip(blade_axes, kinds):
+    for panel, kind in zip(blade_axes, kinds):
         for i, c in enumerate(coords):
             if c.kind == kind:
-                ax.plot(t, shown[:, i], lw=0.9, label=f"blade {c.name}")
-        ax.set_ylabel(f"{kind} angle [deg]")
-        ax.legend(loc="upper left", fontsize=8, ncol=4)
-    for ax in axes:
-        ax.grid(True, color="0.9", lw=0.6)
+                panel.plot(t, shown[:, i], lw=0.9, label=f"blade {c.name}")
+        panel.set_ylabel(f"{kind} angle / d [-]")
+        panel.legend(loc="upper left", fontsize=8, ncol=4)
+    for panel in axes:
+        panel.grid(True, color="0.9", lw=0.6)
     axes[-1].set_xlabel("time [s]")
     text = f"rotor speed {speed_text or f'{sim.rotor_speed:.4g} rad/s'}"
     if growth is not None:
         text += f"; measured growth rate {growth:.4g} 1/s"
     if predicted is not None:
         text += f", largest real part {predicted:.4g} 1/s"
-    fig.suptitle(f"{figure_title(title)}\n{text}", fontsize=10)
+    note = textwrap.fill(
+        f"Linear model: motion relative to the initial disturbance, {told}. Only its growth is "
+        "meaningful, not its size.",
+        TITLE_LINE + 20,
+    )
+    fig.suptitle(f"{figure_title(title)}\n{text}\n{note}", fontsize=10)
     return fig
 
 
-def _log_panel(ax, t, shown, body, coords, unit, name, growth, predicted):
-    """Envelopes of the body coordinates and of the largest lag angle, log scale, with exp(sigma t)."""
+def _log_panel(ax, t, shown, body, coords, name, growth, predicted):
+    """Envelopes of the body coordinates and of the largest lag angle (relative to d), log
+    scale, with exp(sigma t)."""
     lag = [i for i, c in enumerate(coords) if c.kind == "lag"]
     envelopes = {i: envelope(t, shown[:, i]) for i in body + lag}
     if lag:
@@ -146,7 +185,7 @@ def _log_panel(ax, t, shown, body, coords, unit, name, growth, predicted):
     top = max(envelopes[i].max() for i in picked)
     floor = 1e-12 * top if top > 0 else 1e-300
     for n, i in enumerate(picked):
-        label = f"{name(i)} [{unit(i)}]" + (" (largest lag)" if i == largest and len(lag) > 1 else "")
+        label = name(i) + (" (largest lag)" if i == largest and len(lag) > 1 else "")
         ax.semilogy(t, np.maximum(envelopes[i], floor), lw=1.1, color=f"C{n}", label=label)
     rate = growth if growth is not None else predicted
     if rate is not None and picked:
@@ -157,10 +196,9 @@ def _log_panel(ax, t, shown, body, coords, unit, name, growth, predicted):
             ax.semilogy(
                 t, line, ":", color="0.15", lw=1.4, label=f"exp(sigma t), sigma = {rate:.4g} 1/s ({what})"
             )
-    ax.set_ylabel("amplitude [m or deg]")
+    ax.set_ylabel("amplitude / d [-]")
     ax.set_title(
-        "Amplitude envelopes, log scale. The model is linear: amplitudes scale with the initial "
-        "disturbance, only their growth matters.",
+        "Amplitude envelopes relative to the initial disturbance d, log scale",
         fontsize=9,
         loc="left",
     )

@@ -34,10 +34,11 @@ def literal(text: str) -> str:
     return _escaped(_drawable(text))
 
 
-def figure_title(text: str) -> str:
+def figure_title(text: str, line: int = 0) -> str:
     """A case title as a picture shows it: as :func:`literal`, cut to
     :data:`TITLE_LENGTH` characters (matplotlib lays out a long title slowly, and
-    it would not fit the figure) and broken into lines of :data:`TITLE_LINE`."""
+    it would not fit the figure) and broken into lines of ``line`` characters
+    (:data:`TITLE_LINE` by default; fewer over narrow axes)."""
     text = " ".join(_drawable(text).split())
     text = text if len(text) <= TITLE_LENGTH else text[: TITLE_LENGTH - 1] + "\u2026"
-    return _escaped("\n".join(textwrap.wrap(text, TITLE_LINE)) or text)
+    return _escaped("\n".join(textwrap.wrap(text, line or TITLE_LINE)) or text)

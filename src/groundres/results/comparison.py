@@ -230,6 +230,16 @@ class Comparison:
             ],
         }
 
+    def __repr__(self) -> str:
+        from .display import comparison_text
+
+        return comparison_text(self)
+
+    def _repr_html_(self) -> str:
+        from .display import comparison_html
+
+        return comparison_html(self)
+
     def plot(
         self,
         fig=None,
@@ -239,10 +249,12 @@ class Comparison:
         frequency_limits=None,
         real_limits=None,
         modes=None,
+        ax=None,
     ):
         """The entries' Coleman diagrams overlaid (a matplotlib Figure).
 
-        Options as :meth:`groundres.results.sweep.SweepResult.plot`; see
+        Options (``fig`` an empty figure or subfigure, or ``ax`` axes of your own) as
+        :meth:`groundres.results.sweep.SweepResult.plot`; see
         :func:`groundres.plotting.overlay.overlay_diagram`.
         """
         from ..plotting.overlay import overlay_diagram
@@ -255,6 +267,7 @@ class Comparison:
             frequency_limits=frequency_limits,
             real_limits=real_limits,
             modes=modes,
+            ax=ax,
         )
 
 

@@ -317,7 +317,8 @@ class ModeShape:
         dict
             "hub": (n_t, 2) hub displacement in x, y [m] (translation and tilt);
             "lag", "flap": (n_t, N) blade angles [rad] (absent kinds omitted);
-            "azimuth": (n_t, N) blade azimuths [rad].
+            "azimuth": (n_t, N) blade azimuths [rad];
+            "body": each body coordinate by name, (n_t,) [m, rad].
         """
         t = np.asarray(times, dtype=float)
         w = self.rotor_speed
@@ -328,6 +329,7 @@ class ModeShape:
         hub = np.stack(self._hub(sym, zero), 1)
         basis, _, _ = mbc.multiblade_basis(self.n_blades, w * t)
         out = {"hub": hub, "azimuth": mbc.blade_azimuths(self.n_blades, w * t)}
+        out["body"] = {c.name: p[:, i] for i, c in enumerate(self.coordinates) if c.kind == "body"}
         for kind in ("lag", "flap"):
             cols = [i for i, c in enumerate(self.coordinates) if c.kind == kind]
             if cols:

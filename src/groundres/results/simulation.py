@@ -82,15 +82,27 @@ class Simulation:
             for c in self.coordinates
         ]
 
-    def plot(self, fig=None):
+    def __repr__(self) -> str:
+        from .display import simulation_text
+
+        return simulation_text(self)
+
+    def _repr_html_(self) -> str:
+        from .display import simulation_html
+
+        return simulation_html(self)
+
+    def plot(self, fig=None, *, ax=None):
         """The time history (a matplotlib Figure): the growth on a log scale, then body and
-        blade motion, with the measured growth rate and the predicted one
-        (:func:`groundres.plotting.timehistory.time_history`).
+        blade motion, relative to the initial disturbance, with the measured growth rate and
+        the predicted one (:func:`groundres.plotting.timehistory.time_history`).
 
         Parameters
         ----------
-        fig : matplotlib Figure, optional
-            Figure to draw in; a new one if None.
+        fig : matplotlib Figure or SubFigure, optional
+            An empty figure or subfigure to draw in; a new figure if None.
+        ax : matplotlib Axes, optional
+            Instead of ``fig``: axes of your own for the amplitude envelopes alone.
         """
         from ..plotting.timehistory import time_history
 
@@ -101,6 +113,8 @@ class Simulation:
             growth=self.growth_rate(),
             predicted=self.predicted_growth,
             speed_text=fmt_speed(self.rotor_speed, self.case.sweep),
+            initial=self.initial,
+            ax=ax,
         )
 
     def to_xarray(self):

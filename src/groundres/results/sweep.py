@@ -161,6 +161,29 @@ class SweepResult:
 
         return dataset(self)
 
+    def __repr__(self) -> str:
+        from .display import sweep_text
+
+        return sweep_text(self)
+
+    def _repr_html_(self) -> str:
+        from .display import sweep_html
+
+        return sweep_html(self)
+
+    def to_dataframe(self):
+        """The sweep as tidy rows (a pandas DataFrame): speed, mode, frequency, real part,
+        damping ratio, in the case's unit (:mod:`groundres.results.rows`).
+
+        Examples
+        --------
+        >>> df = result.to_dataframe()  # doctest: +SKIP
+        >>> df[df["mode"] == "regressive lag"].plot(x="speed", y="damping_ratio")  # doctest: +SKIP
+        """
+        from .rows import to_dataframe
+
+        return to_dataframe(self)
+
     def to_xarray(self):
         """The sweep as an xarray Dataset (dims ``speed``, ``mode``)."""
         import xarray as xr
@@ -177,13 +200,14 @@ class SweepResult:
         frequency_limits=None,
         real_limits=None,
         modes=None,
+        ax=None,
     ):
         """Coleman diagram (a matplotlib Figure).
 
         Parameters
         ----------
-        fig : matplotlib Figure, optional
-            Figure to draw in; a new one if None.
+        fig : matplotlib Figure or SubFigure, optional
+            An empty figure or subfigure to draw in; a new figure if None.
         show_damping_ratio : bool
             Damping ratio [-] instead of the real part [1/s] in the lower panel.
         speed_axis : {"auto", "unit", "normalised"}
@@ -194,6 +218,9 @@ class SweepResult:
             lower panel (1/s, or the damping ratio).
         modes : sequence of str, optional
             Labels of the modes to draw; the unstable ranges show regardless.
+        ax : matplotlib Axes, or two of them, optional
+            Instead of ``fig``: axes of your own, the frequencies in the first, the real
+            part (or damping ratio) in the second where two are given.
 
         See Also
         --------
@@ -202,6 +229,8 @@ class SweepResult:
         Examples
         --------
         >>> result.plot(modes=["regressive lag"], real_limits=(-0.5, 0.1))  # doctest: +SKIP
+        >>> fig, (left, right) = plt.subplots(1, 2, layout="constrained")  # doctest: +SKIP
+        >>> result.plot(ax=left)  # the frequencies beside a picture of your own  # doctest: +SKIP
         """
         from ..plotting.coleman import coleman_diagram
 
@@ -213,4 +242,5 @@ class SweepResult:
             frequency_limits=frequency_limits,
             real_limits=real_limits,
             modes=modes,
+            ax=ax,
         )

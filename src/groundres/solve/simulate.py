@@ -22,6 +22,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import ModelRangeError, ParameterError
+from ..model.body import TRANSLATIONS
 from ..model.system import System
 
 
@@ -177,6 +178,16 @@ DISTURBANCE = 0.01
 def default_initial(system: System) -> dict:
     """The default initial state: :data:`DISTURBANCE` on every body coordinate and on lag1."""
     return {d: DISTURBANCE for d in system.body.dofs} | {"lag1": DISTURBANCE}
+
+
+def initial_text(values: dict) -> str:
+    """An initial state as a reader takes it: "x = 0.01 m, lag1 = 0.01 rad, roll_rate = 0.1 rad/s"."""
+
+    def unit(key):
+        base, rate = (key[:-5], "/s") if key.endswith("_rate") else (key, "")
+        return ("m" if base in TRANSLATIONS else "rad") + rate
+
+    return ", ".join(f"{k} = {v:g} {unit(k)}" for k, v in values.items())
 
 
 def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]:

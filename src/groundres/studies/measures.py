@@ -62,7 +62,7 @@ def stability_of(case):
 
 def of_case(case) -> dict:
     """The measures of one case (scalars; :func:`groundres.analyze` without the damping search)."""
-    result = analyze(case, lag_damping_search=False)
+    result = analyze(case, lag_damping_search=False, margins_of_every_mode=False)
     stability, margins = result.stability, result.margins
     ranges = stability.unstable_ranges
     growth, least, run_up = margins.growth_margin, margins.least("operating"), margins.least("run_up")

@@ -157,8 +157,40 @@ def _in_place(fn, *args):
         return fn(*args)
 
 
+#: Most memory a worker of a local cluster may hold [bytes]: a grid point's analysis needs a
+#: few hundred MB at most (a sweep's matrices are bounded, :data:`groundres.model.params.MAX_SWEEP_VALUES`);
+#: a worker above 80 % of it pauses, and one above 95 % is restarted (its task computed again).
+WORKER_MEMORY = 4 * 2**30
+
+
+def worker_memory(workers: int) -> int:
+    """The memory limit of each of ``workers`` local workers [bytes]: the machine's memory
+    shared between them, at most :data:`WORKER_MEMORY`."""
+    from distributed.system import MEMORY_LIMIT
+
+    return int(min(MEMORY_LIMIT / max(workers, 1), WORKER_MEMORY))
+
+
+def memory_of(client) -> list[tuple[int, int]]:
+    """(peak resident memory, memory limit) of each worker of ``client`` [bytes]; the limit 0
+    where the cluster sets none."""
+    info = client.scheduler_info().get("workers", {})
+    peaks = client.run(_peak_memory)
+    return [(int(peaks.get(address, 0)), int(w.get("memory_limit") or 0)) for address, w in info.items()]
+
+
+def _peak_memory() -> int:
+    """This process's peak resident memory [bytes] (Linux and macOS report it differently)."""
+    import resource
+    import sys
+
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return int(peak if sys.platform == "darwin" else peak * 1024)
+
+
 def local_client(workers: int):
-    """A Dask cluster on this machine: ``workers`` processes of one thread each.
+    """A Dask cluster on this machine: ``workers`` processes of one thread each, each held
+    to :func:`worker_memory`.
 
     Its workers keep glibc's default memory trimming: Dask sets
     ``MALLOC_TRIM_THRESHOLD_`` = 64 kB in its workers, which hands the many
@@ -174,7 +206,12 @@ def local_client(workers: int):
     environ.pop("MALLOC_TRIM_THRESHOLD_", None)
     with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}), _workers_ignore_ctrl_c():
         cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0", silence_logs=40
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            silence_logs=40,
+            memory_limit=worker_memory(workers),
         )
     return Client(cluster)
 

@@ -16,6 +16,7 @@ import itertools
 import json
 import math
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -27,8 +28,26 @@ from .grid import FAILURE, Grid
 from .measures import ERROR, MEASURES, empty
 
 DONE = "done"
-#: The store is written without consolidated metadata (not part of the Zarr v3 format).
+#: Chunks are written into the store without touching its metadata, which the store holds
+#: consolidated from the start (a study's arrays never change shape): ``xarray.open_zarr``
+#: opens it at once and without a warning (:func:`_create`, :func:`_open`).
 _ZARR = {"consolidated": False}
+
+
+def _create(fresh: xr.Dataset, path: Path, encoding: dict) -> None:
+    """Write the empty store with consolidated metadata (an extension of Zarr v3 that
+    zarr-python and xarray read; zarr warns that the specification lacks it)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Consolidated metadata", category=UserWarning)
+        fresh.to_zarr(path, mode="w", encoding=encoding, consolidated=True)
+
+
+def _open(path: Path) -> xr.Dataset:
+    """The store, by its consolidated metadata (a store written before them: without)."""
+    try:
+        return xr.open_zarr(path, consolidated=True)
+    except (KeyError, ValueError, FileNotFoundError):
+        return xr.open_zarr(path, consolidated=False)
 
 
 def chunk_shape(shape: tuple, target: int) -> tuple:
@@ -98,10 +117,10 @@ def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
         if path.exists() and any(path.iterdir()):
             raise StudyError(f"{path}: exists and is not a study store; give another --out or remove it")
         encoding = {name: {"chunks": chunk} for name in fresh.data_vars}
-        fresh.to_zarr(path, mode="w", encoding=encoding, **_ZARR)
+        _create(fresh, path, encoding)
         return np.zeros(fresh[DONE].shape, bool)
     try:
-        stored = xr.open_zarr(path, **_ZARR)
+        stored = _open(path)
     except Exception as err:  # noqa: BLE001 - any unreadable store is the user's to remove
         raise StudyError(f"{path}: not a readable study store ({type(err).__name__}: {err})") from None
     if stored.attrs.get("fingerprint") != fresh.attrs["fingerprint"]:
@@ -112,6 +131,19 @@ def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
             f"({', '.join(sorted(fresh.data_vars))}); give another --out or remove it"
         )
     return np.asarray(stored[DONE].values, bool)
+
+
+def finished(path: Path, fresh: xr.Dataset) -> bool:
+    """Whether the store at ``path`` holds this study (``fresh``: its template) complete: then it
+    answers without computing, and so without a cluster."""
+    if not (Path(path) / "zarr.json").exists():
+        return False
+    try:
+        with _open(Path(path)) as stored:
+            same = stored.attrs.get("fingerprint") == fresh.attrs["fingerprint"]
+            return same and set(stored.data_vars) == set(fresh.data_vars) and bool(stored[DONE].values.all())
+    except Exception:  # noqa: BLE001 - not readable: not finished (open_store says why)
+        return False
 
 
 def _difference(stored: xr.Dataset, fresh: xr.Dataset) -> str:
@@ -141,7 +173,7 @@ def write_chunk(path: Path, grid: Grid, where: tuple, values: dict) -> None:
 
 def load(path: Path) -> xr.Dataset:
     """The whole study from its store, in memory (without the ``done`` flags)."""
-    with xr.open_zarr(path, **_ZARR) as ds:
+    with _open(path) as ds:
         out = ds.load()
     return out.drop_vars(DONE)
 

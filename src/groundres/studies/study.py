@@ -24,6 +24,7 @@ from .grid import FAILURE, Grid, canonical, make_grid, raw
 from .measures import ERROR, MEASURES
 from .run import compute, map_batches
 from .store import DONE, load, template, write_netcdf
+from .store import finished as store_finished
 
 #: Zarr store and NetCDF file of a study in its output folder.
 ZARR, NETCDF = "study.zarr", "study.nc"
@@ -151,6 +152,13 @@ def boundary(
         "groundres_version": __version__,
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def finished(case, vary: dict, failures: str | None, out) -> bool:
+    """Whether the study's folder ``out`` already holds it whole (:func:`study` would compute
+    nothing): a caller need start no cluster."""
+    grid = make_grid(case, vary, failures)
+    return store_finished(Path(out) / ZARR, template(grid, case, _units(case, grid.keys)))
 
 
 def _units(case, keys) -> dict:
