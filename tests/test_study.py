@@ -406,3 +406,71 @@ def test_single_failures_of_damper_rods_equal_the_case_with_that_rod_failed():
         assert float(point.max_real_part) == pytest.approx(stability.max_real_part[0], rel=1e-9, abs=1e-9)
         assert bool(point.stable) is False
     assert bool(ds.sel(failure="none").stable.values.all())
+
+
+# -- studies at their promised speed (issue 23, item 4) ---------------------------------------
+
+
+def test_the_store_opens_by_consolidated_metadata_without_a_warning(tmp_path):
+    import warnings
+
+    import zarr
+
+    study(small_case(), {"rotor.lag_damping": "1500:6000:2"}, out=tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (xarray warns about a store without consolidated metadata)
+        ds = xr.open_zarr(tmp_path / "study.zarr")
+        assert ds.growth_margin.shape == (2,)
+    assert zarr.open_consolidated(str(tmp_path / "study.zarr"), mode="r") is not None
+
+
+def test_a_complete_study_answers_without_starting_a_cluster(tmp_path, monkeypatch):
+    from groundres.cli import study as cli_study
+
+    args = ["study", "small.toml", "--vary", "rotor.lag_damping=1500:6000:2", "--out", str(tmp_path / "s")]
+    (tmp_path / "small.toml").write_text(SMALL)
+    monkeypatch.chdir(tmp_path)
+    started = []
+    monkeypatch.setattr(cli_study, "_client", lambda *a: started.append(a) or None)
+    first = CliRunner().invoke(main, args)
+    assert first.exit_code == 0, first.output
+    assert len(started) == 1  # (the first run asks for its cluster: here, none, so it computes in place)
+
+    def no_cluster(*a):
+        raise AssertionError("a cluster was started for a study that is complete")
+
+    monkeypatch.setattr(cli_study, "_client", no_cluster)
+    again = CliRunner().invoke(main, args)
+    assert again.exit_code == 0, again.output
+    assert "2 of them were found done in the store" in again.output
+
+
+def test_worker_memory_is_bounded_and_reported():
+    from distributed.system import MEMORY_LIMIT
+
+    from groundres.cli.study import _memory_text
+
+    for workers in (1, 2, 64):
+        limit = run.worker_memory(workers)
+        assert 0 < limit <= run.WORKER_MEMORY and limit <= MEMORY_LIMIT / workers + 1
+    text = _memory_text([(int(0.5 * 2**30), 4 * 2**30), (int(0.25 * 2**30), 4 * 2**30)])
+    assert text == "Workers: 2 (limit 4 GiB each); peak memory 0.5, 0.25 GiB."
+    assert "limits set by the cluster" in _memory_text([(2**30, 0)])
+
+
+def test_points_sets_the_speeds_of_every_sweep_and_the_store_records_them(tmp_path):
+    from groundres.studies.grid import with_points
+
+    fewer = study(small_case(), {"rotor.lag_damping": "1500:6000:2"}, points=12, out=tmp_path)
+    written = small_case(SMALL.replace("points = 24", "points = 12"))
+    same = study(written, {"rotor.lag_damping": "1500:6000:2"})
+    for name in ("growth_margin", "max_real_part", "least_damping_ratio", "unstable_width"):
+        np.testing.assert_array_equal(fewer[name].values, same[name].values)
+    assert "points = 12" in fewer.attrs["case_text"]
+    with pytest.raises(StudyError, match="another case"):
+        study(small_case(), {"rotor.lag_damping": "1500:6000:2"}, points=13, out=tmp_path)
+    with pytest.raises(StudyError, match=r"--points 1: \[sweep\] points = 1: must be a whole number from 2"):
+        with_points(small_case(), 1)
+    assert with_points(small_case(), None) is not None
+    no_points = small_case(SMALL.replace("points = 24\n", ""))
+    assert "points = 7" in with_points(no_points, 7).text

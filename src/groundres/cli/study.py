@@ -101,8 +101,17 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     help="Instead of the grid: find where the stability changes along this varied key, by root "
     "finding, for every value of the others (boundary.nc, map.<format>).",
 )
+@click.option(
+    "--points",
+    type=click.IntRange(2, None),
+    default=None,
+    metavar="N",
+    help="Speeds of the sweep at every grid point [default: the case's [sweep] points]. The "
+    "measures are refined between speeds, so fewer cost less and change them little "
+    "(docs/studies.md).",
+)
 @FORMAT
-def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
+def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt):
     """Stability of CASE over a grid of its keys (and single lag-damper failures).
 
     Each grid point is a full speed sweep of the case. Writes study.zarr and
@@ -114,10 +123,10 @@ def command(case, vary, failures, out, workers, scheduler, boundary, fmt):
     from ..results import files, folders
     from ..solve.parallel import CORES
     from ..studies import figure, store, study
-    from ..studies.grid import canonical, make_grid
+    from ..studies.grid import canonical, make_grid, with_points
 
     console = make_console()
-    the_case = load(case)
+    the_case = with_points(load(case), points)
     grid = make_grid(the_case, parse_vary(vary), failures)
     if not out.strip():
         fail_user(f"--out {out!r}: empty; give a folder, e.g. --out study")

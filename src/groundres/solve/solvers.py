@@ -160,7 +160,8 @@ class _TimeInvariant(Solver):
         return modal.block_eigenvalues(*mats, self._blocks(mats), split=True)
 
     def roots(self, speeds):
-        mats = self.form(np.atleast_1d(speeds))
+        # (the fitted matrices: a search's single speeds cost an array product, not an assembly)
+        mats = self._fitted(np.atleast_1d(np.asarray(speeds, dtype=float)))
         return modal.block_eigenvalues(*mats, self._blocks(mats))
 
     def sweep(self, speeds, progress=None):

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._version import __version__
-from ..errors import StudyError, shown
+from ..errors import InputError, StudyError, shown
 from ..model.params import Case
 from ..model.schema import SCHEMA, parse_case
 
@@ -251,9 +251,7 @@ def make_grid(case: Case, vary: dict, failures: str | None = None) -> Grid:
 
 def raw(case: Case) -> dict:
     """The case's TOML tables, to be varied."""
-    if not case.text:
-        raise StudyError("the case has no text to vary: give a case file or a shipped case")
-    return tomllib.loads(case.text)
+    return tomllib.loads(raw_text(case))
 
 
 def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str = "") -> Case:
@@ -298,3 +296,46 @@ def _blade_table(data: dict, index: int) -> dict:
     entry = {"index": index}
     tables.append(entry)
     return entry
+
+
+#: A table header line of a case file (``[sweep]``, ``[[rotor.blade]]``).
+_HEADER = re.compile(r"^\s*\[")
+
+
+def with_points(case: Case, points: int | None) -> Case:
+    """The case with ``points`` speeds in its sweep (its text edited, so that a study's store
+    and folder record it), or the case itself where ``points`` is None.
+
+    Raises
+    ------
+    StudyError
+        A number of points the case format does not allow, or a case whose ``[sweep]``
+        table is not written as one (an inline table).
+    """
+    if points is None:
+        return case
+    if isinstance(points, bool) or not isinstance(points, int):
+        raise StudyError(f"--points {shown(points)}: must be a whole number")
+    lines = raw_text(case).splitlines()
+    start = next((i for i, line in enumerate(lines) if line.strip() == "[sweep]"), None)
+    if start is None:
+        raise StudyError("--points: the case has no [sweep] table to set it in; set points in the case file")
+    end = next((i for i in range(start + 1, len(lines)) if _HEADER.match(lines[i])), len(lines))
+    entry = f"points = {points}"
+    at = next((i for i in range(start + 1, end) if re.match(r"\s*points\s*=", lines[i])), None)
+    if at is None:
+        lines.insert(start + 1, entry)
+    else:
+        lines[at] = entry
+    text = "\n".join(lines) + "\n"
+    try:
+        return parse_case(tomllib.loads(text), case.source, text)
+    except InputError as err:  # (the case format says what is allowed)
+        raise StudyError(f"--points {points}: {err}") from None
+
+
+def raw_text(case: Case) -> str:
+    """The case's text (StudyError where it has none)."""
+    if not case.text:
+        raise StudyError("the case has no text to vary: give a case file or a shipped case")
+    return case.text

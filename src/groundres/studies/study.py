@@ -20,7 +20,7 @@ import xarray as xr
 from .._version import __version__
 from ..errors import StudyError
 from ..model.units import key_unit
-from .grid import FAILURE, Grid, canonical, make_grid, raw
+from .grid import FAILURE, Grid, canonical, make_grid, raw, with_points
 from .measures import ERROR, MEASURES
 from .run import compute, map_batches
 from .store import DONE, load, template, write_netcdf
@@ -30,7 +30,9 @@ from .store import finished as store_finished
 ZARR, NETCDF = "study.zarr", "study.nc"
 
 
-def study(case, vary: dict, failures: str | None = None, client=None, out=None, progress=None) -> xr.Dataset:
+def study(
+    case, vary: dict, failures: str | None = None, client=None, out=None, progress=None, points=None
+) -> xr.Dataset:
     """Stability measures of ``case`` at every point of a grid of its keys.
 
     Parameters
@@ -52,6 +54,10 @@ def study(case, vary: dict, failures: str | None = None, client=None, out=None, 
         there before with the same case and grid resumes) and ``study.nc``.
     progress : callable, optional
         ``progress(done, total)`` in grid points.
+    points : int, optional
+        Speeds of the sweep at every grid point instead of the case's ``[sweep] points``
+        (:func:`groundres.studies.grid.with_points`): the measures are refined between the
+        sweep's speeds, so a coarser sweep changes them little and costs less (docs/studies.md).
 
     Returns
     -------
@@ -70,6 +76,7 @@ def study(case, vary: dict, failures: str | None = None, client=None, out=None, 
         A key that is no number key of a case, a bad range or count, a store
         made for another case or grid.
     """
+    case = with_points(case, points)
     grid = make_grid(case, vary, failures)
     fresh = template(grid, case, _units(case, grid.keys))
     data, source = raw(case), case.source
@@ -92,7 +99,7 @@ LINES_PER_TASK = 2
 
 
 def boundary(
-    case, vary: dict, key: str, failures: str | None = None, client=None, progress=None
+    case, vary: dict, key: str, failures: str | None = None, client=None, progress=None, points=None
 ) -> xr.Dataset:
     """The stability boundary along ``key`` for every value of the other varied keys.
 
@@ -100,10 +107,11 @@ def boundary(
     searched by root finding (:mod:`groundres.studies.search`) instead of
     sampled. Returns a data set over the other keys (and ``failure``):
     ``boundary`` [the key's units], ``stable_at_start``, ``evaluations`` and
-    ``error``.
+    ``error``; ``points`` as for :func:`study`.
     """
     from . import search
 
+    case = with_points(case, points)
     grid = make_grid(case, vary, failures)
     key = canonical(key)
     if key not in grid.keys:
@@ -154,9 +162,10 @@ def boundary(
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def finished(case, vary: dict, failures: str | None, out) -> bool:
+def finished(case, vary: dict, failures: str | None, out, points=None) -> bool:
     """Whether the study's folder ``out`` already holds it whole (:func:`study` would compute
     nothing): a caller need start no cluster."""
+    case = with_points(case, points)
     grid = make_grid(case, vary, failures)
     return store_finished(Path(out) / ZARR, template(grid, case, _units(case, grid.keys)))
 
