@@ -197,3 +197,27 @@ def test_terminal_and_summary_show_margins_and_open_ranges(tmp_path):
 
 def test_a_stable_case_has_no_deutsch_caveat(hammond):
     assert "deutsch_overall" not in hammond.summary()["lag_damping"]
+
+
+def test_a_mode_that_grows_only_between_the_sweeps_speeds_shows_its_growth():
+    """The soft in-plane rotor on its pitch-roll body has a flap-lag instability about 0.1 rpm
+    wide near 88.9 rpm, between the sweep's speeds (5 rpm apart), named "regressive flap" by
+    the range: that mode's least damping ratio and largest real part are searched inside the
+    range, so that its row reads negative where its verdict reads unstable. Reference: the
+    analysis' own roots at 2001 speeds across the range (independent of the margins' search;
+    the two regressive roots coalesce there, so the dense sweep's labels may give the growing
+    one to either: its least ratio and largest real part are taken over every root), to the
+    golden section's tolerance."""
+    result = analyze(load_case("soft-inplane-pitch-roll"), lag_damping_search=False)
+    (start, end) = next((a, b) for a, b in result.stability.unstable_ranges if b - a < 0.05)
+    assert not ((result.rotor_speed >= start) & (result.rotor_speed <= end)).any()
+    assert result.unstable_modes(start, end) == ["regressive flap"]
+    row = next(m for m in result.margins.modes if m.mode == "regressive flap")
+    dense = analyze(
+        load_case("soft-inplane-pitch-roll"), speeds=np.linspace(start, end, 2001), lag_damping_search=False
+    )
+    assert row.verdict == "unstable" and row.grows
+    assert row.operating.value < 0 and not row.operating.neutral
+    assert row.operating.value == pytest.approx(dense.damping_ratio.min(), rel=1e-4)
+    assert row.largest_real_part.value == pytest.approx(dense.real_part.max(), rel=1e-4)
+    assert start <= row.operating.speed <= end

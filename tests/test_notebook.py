@@ -11,37 +11,21 @@ import pytest
 from matplotlib.figure import Figure
 
 import groundres
+from conftest import HAMMOND_TOML
 from groundres import analyze, load_case, parse_case, simulate
 
 #: A 4-blade Hammond rotor with 1000 N m s/rad of lag damping (unstable over a middle range),
 #: in rpm, a title with markup in it (the HTML must escape it).
-CASE = """
-title = "Notebook <b>case</b> & co"
-[rotor]
-blades = 4
-hinge_offset = 0.3048
-blade_mass = 94.9
-blade_static_moment = 289.1
-blade_inertia = 1084.7
-lag_stiffness = 0.0
-lag_damping = 1000.0
-[body]
-dofs = ["x", "y"]
-mass_x = 8026.6
-mass_y = 3283.6
-stiffness_x = 1240481.8
-stiffness_y = 1240481.8
-damping_x = 51078.7
-damping_y = 25539.35
-[sweep]
-start = 10.0
-stop = 400.0
-points = 80
-unit = "rpm"
-operating_start = 200.0
-operating_stop = 400.0
-required_damping_ratio = 0.01
-"""
+CASE = (
+    HAMMOND_TOML.replace('title = "test"', 'title = "Notebook <b>case</b> & co"')
+    .replace("lag_damping = 4067.5", "lag_damping = 1000.0")
+    .replace(
+        'start = 0.5\nstop = 40.0\npoints = 60\nunit = "rad/s"',
+        'start = 10.0\nstop = 400.0\npoints = 80\nunit = "rpm"',
+    )
+    + "operating_start = 200.0\noperating_stop = 400.0\nrequired_damping_ratio = 0.01\n"
+)
+assert "lag_damping = 1000.0" in CASE and 'unit = "rpm"' in CASE and "<b>case</b>" in CASE
 
 
 @pytest.fixture(scope="module")

@@ -315,7 +315,7 @@ def deutsch_entry(e: DeutschEntry, speeds) -> dict:
 
 
 def _least(least) -> dict | None:
-    """A Least (:class:`groundres.assess.margins.Least`) as summary.json writes it."""
+    """A Least (:class:`groundres.assess.refine.Least`) as summary.json writes it."""
     return (
         None
         if least is None
