@@ -133,3 +133,27 @@ def test_peak_watch_with_a_rough_look_reaches_the_same_verdicts():
         # and the watched peaks of a scan at the previous parameter
         assert (plain_watch.watched(p) > 0) == (rough_watch.watched(p) > 0), p
         plain_watch.full(p), rough_watch.full(p)
+
+
+def test_a_periodic_search_stops_at_the_strongest_damper_a_floquet_scan_can_follow():
+    """The Hammond rotor with one damper inoperative swept from 5 to 1e7 rpm: no lag damping
+    on the working blades makes it stable, and the search's doubling damper soon makes the
+    periodic equations too stiff for the integrator at the resonance (about 1e6 steps a period
+    at 27 rad/s). The search stops at the strongest damper a scan can follow within the work
+    limit, estimated before it is tried, and says so: the analysis ends in seconds with an
+    answer instead of running on and refusing the whole sweep at a speed that is no fault of
+    the sweep's start."""
+    import time
+
+    from groundres.results.summary import no_exact_reason
+
+    text = resources.files("groundres.cases").joinpath("hammond-1974-one-damper.toml").read_text()
+    data = tomllib.loads(text)
+    data["sweep"].update(start=5.0, stop=1e7)
+    started = time.perf_counter()
+    result = analyze(parse_case(data))
+    assert time.perf_counter() - started < 30  # (measured about 2 s alone on two cores)
+    assert result.exact_lag_damping is None
+    kind, value = result.no_exact_lag_damping
+    assert kind == "afforded" and 1e5 < value < 1e7
+    assert "cannot follow a stronger damper within its work limit" in no_exact_reason(result, str)

@@ -200,24 +200,51 @@ def test_a_stable_case_has_no_deutsch_caveat(hammond):
 
 
 def test_a_mode_that_grows_only_between_the_sweeps_speeds_shows_its_growth():
-    """The soft in-plane rotor on its pitch-roll body has a flap-lag instability about 0.1 rpm
-    wide near 88.9 rpm, between the sweep's speeds (5 rpm apart), named "regressive flap" by
-    the range: that mode's least damping ratio and largest real part are searched inside the
-    range, so that its row reads negative where its verdict reads unstable. Reference: the
-    analysis' own roots at 2001 speeds across the range (independent of the margins' search;
-    the two regressive roots coalesce there, so the dense sweep's labels may give the growing
-    one to either: its least ratio and largest real part are taken over every root), to the
-    golden section's tolerance."""
-    result = analyze(load_case("soft-inplane-pitch-roll"), lag_damping_search=False)
-    (start, end) = next((a, b) for a, b in result.stability.unstable_ranges if b - a < 0.05)
-    assert not ((result.rotor_speed >= start) & (result.rotor_speed <= end)).any()
-    assert result.unstable_modes(start, end) == ["regressive flap"]
-    row = next(m for m in result.margins.modes if m.mode == "regressive flap")
-    dense = analyze(
-        load_case("soft-inplane-pitch-roll"), speeds=np.linspace(start, end, 2001), lag_damping_search=False
-    )
+    """The soft in-plane rotor on its pitch-roll body, swept from 30 to 120 rpm (0.9375 rpm
+    apart), has one flap-lag instability, about 0.1 rpm wide near 88.9 rpm, between two of the
+    sweep's speeds. The range names the mode that grows at its peak as identified there on its
+    own, as a dense sweep across the range names it; that mode's least damping ratio and largest
+    real part are searched inside the range, so that its row reads negative where its verdict
+    reads unstable. Reference: the analysis' own roots at 2001 speeds across the range
+    (independent of the margins' search), to the golden section's tolerance."""
+    data = tomllib.loads(load_case("soft-inplane-pitch-roll").text)
+    data["sweep"].update(start=30.0, stop=120.0, points=97)
+    case = parse_case(data)
+    result = analyze(case, lag_damping_search=False)
+    [(start, end)] = result.stability.unstable_ranges
+    assert end - start < 0.2 and not ((result.rotor_speed >= start) & (result.rotor_speed <= end)).any()
+    dense = analyze(case, speeds=np.linspace(start, end, 2001), lag_damping_search=False)
+    peak = int(np.argmax(dense.real_part.max(axis=1)))
+    grower = dense.labels[int(np.argmax(dense.real_part[peak]))]
+    assert result.unstable_modes(start, end) == [grower]
+    row = next(m for m in result.margins.modes if m.mode == grower)
     assert row.verdict == "unstable" and row.grows
     assert row.operating.value < 0 and not row.operating.neutral
     assert row.operating.value == pytest.approx(dense.damping_ratio.min(), rel=1e-4)
     assert row.largest_real_part.value == pytest.approx(dense.real_part.max(), rel=1e-4)
     assert start <= row.operating.speed <= end
+    assert result.margins.growth_margin[0] == pytest.approx(dense.real_part.max(), rel=1e-4)
+
+
+def test_a_coarse_periodic_sweep_from_rest_still_sees_the_resonance():
+    """The Hammond rotor with one damper inoperative swept from rest to 1e7 rpm in 400 speeds
+    (25,000 rpm apart): the resonance lies between the sweep's first two speeds. The tuning
+    speeds' probes are kept whatever the spacing, so the unstable range, its growing mode and
+    the worst values are those of the shipped case's dense sweep (5 to 400 rpm; the same
+    rotor), to the refinements' tolerance (ends 1e-8, extremes 1e-4 of the speed)."""
+    text = load_case("hammond-1974-one-damper").text
+    data = tomllib.loads(text)
+    data["sweep"].update(start=0.0, stop=1e7, points=400)
+    coarse = analyze(parse_case(data), lag_damping_search=False)
+    shipped = analyze(load_case("hammond-1974-one-damper"), lag_damping_search=False)
+    (a, b), (c, d) = coarse.stability.unstable_ranges[0], shipped.stability.unstable_ranges[0]
+    assert len(coarse.stability.unstable_ranges) == 1
+    assert (a, b) == pytest.approx((c, d), rel=1e-6)
+    assert coarse.unstable_modes(a, b) == shipped.unstable_modes(c, d) == ["regressive lag"]
+    assert coarse.stability.max_real_part[0] == pytest.approx(shipped.stability.max_real_part[0], rel=1e-6)
+    assert coarse.stability.min_damping_ratio[0] == pytest.approx(
+        shipped.stability.min_damping_ratio[0], rel=1e-4
+    )
+    summary = coarse.summary()
+    assert summary["max_real_part"]["mode"] == "regressive lag" and summary["max_real_part"]["vibrating"]
+    assert not summary["min_damping_ratio"]["neutral"]

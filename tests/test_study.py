@@ -6,6 +6,8 @@ of 2 workers must equal the same study computed in this process, bit for bit;
 an interrupted study resumes without computing its finished chunks again.
 """
 
+import tomllib
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -474,3 +476,36 @@ def test_points_sets_the_speeds_of_every_sweep_and_the_store_records_them(tmp_pa
     assert with_points(small_case(), None) is not None
     no_points = small_case(SMALL.replace("points = 24\n", ""))
     assert "points = 7" in with_points(no_points, 7).text
+
+
+def test_a_study_beyond_its_time_limit_is_refused_before_any_cluster_with_its_estimate(tmp_path, monkeypatch):
+    """A 1000 x 1000 grid of the Hammond rotor (about 0.1 s a sweep: days on two cores) is
+    refused in about a second, before a cluster starts or the folder is made, with the estimate
+    and what to change; --max-hours moves the limit, whose default is the library's."""
+    from groundres.cli import study as cli_study
+    from groundres.studies import cost
+
+    monkeypatch.setattr(cli_study, "_client", lambda *a: pytest.fail("a cluster was started"))
+    big = ["--vary", "rotor.lag_damping=1000:9000:1000", "--vary", "body.damping_x=10000:100000:1000"]
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["study", "hammond-1974", *big, "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    message = " ".join(result.output.split())
+    assert "1000000 sweeps of about" in message and "more than --max-hours 4" in message
+    assert "--points" in message and "--boundary" in message
+    assert not out.exists()
+    option = next(p for p in cli_study.command.params if p.name == "max_hours")
+    assert option.default == cost.MAX_HOURS
+    # the estimate counts the failures (alike blades: one failure computed for all) and the lines
+    case = parse_case(tomllib.loads(HAMMOND_TOML), "hammond", HAMMOND_TOML)
+    grid = make_grid(case, {"rotor.lag_damping": "1000:9000:10", "body.damping_x": "1e4:1e5:3"}, "single")
+    monkeypatch.setattr(cost, "sweep_seconds", lambda case, failure="none": 0.1 if failure == "none" else 0.4)
+    est = cost.estimate(case, grid, grid.size, 2)
+    assert (est.analyses, est.seconds) == (60, pytest.approx(0.25))
+    lines = cost.estimate(case, grid, grid.size, 2, boundary="rotor.lag_damping")
+    assert lines.analyses == 3 * 2 * cost.SWEEPS_PER_LINE
+    half = cost.estimate(case, grid, grid.size // 2, 2)
+    assert half.analyses == 30 and half.hours == pytest.approx(est.hours / 2)
+    with pytest.raises(StudyError, match="more than --max-hours 0.001"):
+        cost.check(est, hours=0.001)
+    cost.check(est, hours=1.0)

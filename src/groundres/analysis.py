@@ -18,6 +18,8 @@ and worst values (:mod:`groundres.assess.stability`), the Deutsch requirement
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .assess import damping_search, margins, resolution, scan, stability
@@ -133,6 +135,7 @@ def analyze(
         floor=floor,
         rough_growth=stability.rough_growth_of(solver),
     )
+    between = _growing_between(solver, speeds, assessed, method)
     report("range ends", 1, 1)
     accuracy = {
         **solver.accuracy(),
@@ -166,6 +169,7 @@ def analyze(
         coordinates=solver.coordinates,
         weights=solver.weights(speeds),
         accuracy=accuracy,
+        between=between,
     )
     report("margins", 0, None)
     result.margins = margins.margins(
@@ -177,8 +181,54 @@ def analyze(
         every=margins_of_every_mode,
         floor=floor,
     )
+    if between:
+        result.stability = _least_between(result)
     report("margins", 1, 1)
     return result
+
+
+def _growing_between(solver, speeds, assessed, method) -> dict:
+    """(start, end) -> {label: root at the peak} of the modes that grow at the peak of each
+    unstable range holding none of the sweep's speeds, identified at that speed on their own (a
+    cheap analysis of one speed): the sweep's modes, interpolated across such a range, could
+    name the wrong ones."""
+    out = {}
+    for (start, end), peak in zip(assessed.unstable_ranges, assessed.peak_speeds):
+        if ((speeds >= start) & (speeds <= end)).any() or not peak > 0:
+            continue
+        w = np.array([float(peak)])
+        at = identify_solution(
+            solver.sweep(w), w, solver.coordinates, solver.system.kinetic_weights(w), solver.isotropic_pairs
+        )
+        real = at.real_part[0]
+        grows = real > stability.growth_threshold(w)[0]
+        grows = grows if grows.any() else real == real.max()
+        out[(start, end)] = {
+            label: complex(lam) for label, lam, g in zip(at.labels, at.eigenvalue[0], grows) if g
+        }
+    return out
+
+
+def _least_between(result):
+    """The result's smallest damping ratio over the sweep, taken from its margins inside the unstable
+    ranges that hold none of the sweep's speeds (:func:`_growing_between`): there each growing mode
+    is followed from its root identified at the range's peak, where the sweep's modes,
+    interpolated across the range, may lead the refinement to another root or harmonic."""
+    assessed = result.stability
+    least = assessed.min_damping_ratio
+    inside = lambda w: any(a <= w <= b for a, b in result.between)  # noqa: E731
+    candidates = [
+        (x.value, x.speed)
+        for m in result.margins.modes
+        for x in (m.operating, m.run_up)
+        if x is not None and inside(x.speed) and any(m.mode in roots for roots in result.between.values())
+    ]
+    if not candidates:
+        return assessed
+    best = min(candidates)
+    if inside(least[1]) or best[0] < least[0]:
+        return replace(assessed, min_damping_ratio=(float(best[0]), float(best[1])))
+    return assessed
 
 
 def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=None) -> Simulation:

@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ..solve.floquet import cost
 from . import resolution, scan, stability
 
 #: Relative accuracy of the exact minimum lag damping, by method option
@@ -121,7 +122,9 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
     why_none : tuple or None
         Where ``value`` is None: ("below", speed [rad/s]) for a sweep unstable
         below the search's lowest speed, ("cap", damping in the same unit)
-        where no damping up to the largest tried makes it stable.
+        where no damping up to the largest tried makes it stable, ("afforded", damping)
+        where that largest is the strongest a Floquet scan of the search's speeds can follow
+        within the work limit (:func:`groundres.solve.floquet.cost.affordable_damping`).
     """
     periodic = solver.method.periodic
     low = lowest_search_speed(deutsch)
@@ -178,9 +181,16 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         threshold = stability.growth_threshold(w)
         return tuple(v - threshold for v in stability.rough_growth_of(trial(lag_damping))(w, neutral=False))
 
+    grid = search_grid(speeds, probe, periodic, low, search_windows(deutsch, assessed.unstable_ranges))
+    reason = "cap"
+    if periodic:  # (no stronger damper than a Floquet scan can follow within the work limit)
+        afford = cost.affordable_damping(system.with_lag_damping, grid, cap)
+        if afford < cap:
+            cap, reason = afford, "afforded"
+            guess = min(guess, 0.5 * cap)
     value = minimum_lag_damping(
         excess,
-        search_grid(speeds, probe, periodic, low, search_windows(deutsch, assessed.unstable_ranges)),
+        grid,
         guess,
         cap=cap,
         rtol=RTOL[solver.method.option],
@@ -189,7 +199,7 @@ def exact_minimum(solver, case, speeds, probe, deutsch, assessed):
         periodic=periodic,
         rough=None if solver.rough_real_parts is None else rough,
     )
-    return (None, ("cap", unit.to_si(cap))) if value is None else (unit.to_si(value), None)
+    return (None, (reason, unit.to_si(cap))) if value is None else (unit.to_si(value), None)
 
 
 def _in_searched(entry, system, unit) -> float:

@@ -226,8 +226,9 @@ def margins(
     for start, end in result.stability.unstable_ranges:
         labels = result.unstable_modes(start, end)
         growing.update(labels)
-        if not ((speeds >= start) & (speeds <= end)).any():
-            between.append((start, end, labels))
+        if not ((speeds >= start) & (speeds <= end)).any():  # (each mode's root there, where known)
+            roots = (getattr(result, "between", None) or {}).get((start, end), {})
+            between.append((start, end, {label: roots.get(label) for label in labels}))
     # a range that falls between the sweep's speeds: its modes' extremes are searched inside it,
     # so that a mode that grows there shows a negative damping ratio and a positive real part
     refine.within(least_op, counts, operating, between, "ratio", sign=1.0)

@@ -90,37 +90,45 @@ class Refiner:
 
     def within(self, found, counts, span, ranges, what, sign) -> None:
         """Update ``found`` (per mode, Least or None) with each mode's extreme inside the
-        unstable ranges (start, end, labels) [rad/s] that hold none of the sweep's speeds,
-        searched by golden section over the range within ``span``: the modes that grow there
-        and vibrate at the sweep's speed nearest it."""
+        unstable ranges (start, end, {label: root at the range's peak, or None}) [rad/s] that
+        hold none of the sweep's speeds, searched by golden section over the range within
+        ``span``, following the root given (the sweep's modes interpolated where None): the
+        modes that grow there and vibrate at the sweep's speed nearest it (or whose root there
+        is known).
+        """
         lo, hi = span
-        columns, a, b = [], [], []
-        for start, end, labels in ranges:
+        columns, a, b, targets = [], [], [], []
+        for start, end, roots in ranges:
             s, e = max(start, lo, self.floor), min(end, hi)
             i = int(np.argmin(np.abs(self.speeds - 0.5 * (start + end))))
-            for label in labels if e > s else ():
+            for label, root in roots.items() if e > s else ():
                 j = self.modes.labels.index(label)
-                if counts[i, j]:
+                if root is not None or counts[i, j]:
                     columns.append(j)
                     a.append(s)
                     b.append(e)
+                    targets.append(root)
         if not columns:
             return
         values, where = golden(
-            lambda w: sign * self._values(w, columns, what), np.array(a), np.array(b), self.xtol
+            lambda w: sign * self._values(w, columns, what, targets), np.array(a), np.array(b), self.xtol
         )
         for j, value, at in zip(columns, values, where):
             if found[j] is None or value < sign * found[j].value:
                 neutral = value == 0.0 if what == "ratio" else bool(abs(value) <= growth_threshold(at))
                 found[j] = Least(sign * float(value), float(at), neutral)
 
-    def _values(self, w, columns, what):
-        """Damping ratio or real part of each column's mode at its speed ``w`` (batched)."""
+    def _values(self, w, columns, what, targets=None):
+        """Damping ratio or real part of each column's mode at its speed ``w`` (batched), the
+        root continuing its target (``targets``: a root each, or None where the sweep's modes
+        are interpolated)."""
         roots = np.asarray(self.roots_at(w))
         roots = roots.reshape(len(w), -1)
-        best, cand = continuing_roots(
-            roots, interpolated(self.modes, self.speeds, w, columns), w, self.unique
-        )
+        expected = interpolated(self.modes, self.speeds, w, columns)
+        if targets is not None:
+            expected = np.array([e if t is None else complex(t) for e, t in zip(expected, targets)])
+            expected = expected.real + 1j * np.abs(expected.imag)
+        best, cand = continuing_roots(roots, expected, w, self.unique)
         if what == "real":
             return best.real
         ratio = damping_ratio(best, scale=np.abs(cand).max(axis=1))

@@ -42,25 +42,29 @@ def probe_speeds(speeds, tuning=(), periodic: bool = False) -> np.ndarray:
 
     Notes
     -----
-    For a Floquet analysis no probe lies below half the first speed that
-    turns (a periodic analysis just above rest is the costliest of the sweep);
-    a range open there is followed down within a work budget
-    (:func:`groundres.assess.stability.find_ranges`).
+    For a Floquet analysis no probe of the even grid lies below half the first
+    speed that turns (a periodic analysis just above rest is the costliest of
+    the sweep); a range open there is followed down within a work budget
+    (:func:`groundres.assess.stability.find_ranges`). The clusters at the tuning
+    speeds are kept whatever the sweep's spacing: a sweep from rest in steps
+    wider than the resonances (0 to 1e7 rpm in 400 speeds) would otherwise see
+    no speed where the rotor grows.
     """
     speeds = np.asarray(speeds, dtype=float)
     lo, hi = speeds[0], speeds[-1]
     uniform, cluster = GRID[periodic]
     if periodic:  # every Floquet speed is an integration: what the sweep lacks
         uniform, cluster = max(0, uniform - len(speeds) // 2), (cluster if len(speeds) < 100 else 8)
-    parts = [np.linspace(lo, hi, uniform)] if uniform > 1 else []
-    for t in tuning:
+    even = np.linspace(lo, hi, uniform) if uniform > 1 else np.zeros(0)
+    moving = speeds[speeds > 0]
+    if periodic and len(moving):
+        even = even[even >= 0.5 * moving.min()]
+    parts = [even]
+    for t in tuning:  # (kept whatever the sweep's spacing: a resonance is where the rotor may grow)
         if t is not None and lo < t < hi:
             a, b = max(lo, t / CLUSTER_WIDTH), min(hi, t * CLUSTER_WIDTH)
             parts.append(np.geomspace(max(a, 1e-300), b, cluster))
-    probe = np.unique(np.concatenate(parts)) if parts else np.zeros(0)
-    moving = speeds[speeds > 0]
-    if periodic and len(moving):
-        probe = probe[probe >= 0.5 * moving.min()]
+    probe = np.unique(np.concatenate(parts))
     probe = probe[(probe > lo) & (probe < hi)]
     return np.setdiff1d(probe, speeds)
 

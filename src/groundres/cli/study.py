@@ -110,8 +110,17 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     "measures are refined between speeds, so fewer cost less and change them little "
     "(docs/studies.md).",
 )
+@click.option(
+    "--max-hours",
+    type=click.FloatRange(0, None, min_open=True),
+    default=4.0,
+    show_default=True,
+    metavar="H",
+    help="Refuse a study estimated to take longer than H hours of wall-clock time (one sweep "
+    "timed here, times the sweeps to make, shared between the workers).",
+)
 @FORMAT
-def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt):
+def command(case, vary, failures, out, workers, scheduler, boundary, points, max_hours, fmt):
     """Stability of CASE over a grid of its keys (and single lag-damper failures).
 
     Each grid point is a full speed sweep of the case. Writes study.zarr and
@@ -121,7 +130,6 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt
     (png unless --format says) into --out. Runs on a local Dask cluster unless --scheduler names one.
     """
     from ..results import files, folders
-    from ..solve.parallel import CORES
     from ..studies import figure, store, study
     from ..studies.grid import canonical, make_grid, with_points
 
@@ -138,8 +146,8 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
     check_study_folder(out_dir, the_case.text, boundary is not None)
     values = dict(zip(grid.keys, grid.values))
-    done = boundary is None and study.finished(the_case, values, failures, out_dir)
-    client = None if done else _client(scheduler, workers or CORES)  # (finished: no cluster to start)
+    left = grid.size if boundary is not None else study.remaining(the_case, values, failures, out_dir)
+    client = None if not left else _started(the_case, grid, left, boundary, scheduler, workers, max_hours)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
@@ -170,6 +178,30 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt
         _report_boundary(console, ds, grid, out_dir, seconds, fmt)
     if memory:
         console.print(_memory_text(memory))
+
+
+def _started(the_case, grid, left, boundary, scheduler, workers, max_hours):
+    """The study's client, after its cost is estimated and found within ``max_hours`` (the local
+    cluster's, before it starts; an existing cluster's, on its threads, once reached)."""
+    import dataclasses
+
+    from ..solve.parallel import CORES
+    from ..studies import cost
+
+    estimated = cost.estimate(the_case, grid, left, workers or CORES, boundary)
+    if scheduler is None:
+        cost.check(estimated, max_hours)
+    client = _client(scheduler, workers or CORES)
+    if scheduler is not None:
+        threads = sum(w.get("nthreads", 1) for w in client.scheduler_info().get("workers", {}).values())
+        estimated = dataclasses.replace(estimated, workers=max(threads, 1))
+        try:
+            cost.check(estimated, max_hours)
+        except Exception:
+            _close(client)
+            raise
+    make_console().print(f"Estimated: {estimated.text()}.")
+    return client
 
 
 def _client(scheduler, workers):

@@ -117,6 +117,12 @@ def no_exact_reason(result, speed) -> str:
         )
     unit = searched_unit(result.case.rotor)
     upto = f" {value:.4g} {unit}" if value is not None else " the largest tried"
+    if kind == "afforded":
+        return (
+            f"no lag damping up to{upto} makes the sweep stable, and the Floquet analysis cannot "
+            "follow a stronger damper within its work limit (the periodic equations grow stiff as "
+            "the damper decays faster, most at the search's lowest speeds)"
+        )
     speeds = result.rotor_speed
     undamped = [
         e.body_mode
@@ -260,7 +266,8 @@ def _vibrating(out: dict, result, at) -> None:
     if result.margins is None:
         return
     i = int(np.argmin(np.abs(result.rotor_speed - at)))
-    out["vibrating"] = bool(result.margins.vibrating[i, result.labels.index(out["mode"])])
+    grows_there = any(out["mode"] in labels for labels in result._between_at(at))  # (grows: vibrates)
+    out["vibrating"] = grows_there or bool(result.margins.vibrating[i, result.labels.index(out["mode"])])
     if not out["vibrating"]:
         out["vibrating_note"] = (
             "a root of a mode neutral at rest that does not vibrate there (overdamped at low speed, it "
@@ -278,6 +285,9 @@ def _min_damping_ratio(result) -> dict:
     # neutral: the root's real part, -ratio |lambda|, within the growth threshold
     i = int(np.argmin(np.abs(result.rotor_speed - at)))
     size = abs(result.modes.eigenvalue[i, result.labels.index(out["mode"])])
+    for (a, b), roots in (result.between or {}).items():  # (a root between the sweep's speeds)
+        if a <= at <= b and out["mode"] in roots:
+            size = abs(roots[out["mode"]])
     out["neutral"] = math.isfinite(value) and bool(is_neutral(value * size, at))
     _vibrating(out, result, at)
     return out

@@ -43,7 +43,8 @@ class SweepResult:
         Why ``exact_lag_damping`` is None: ("cap", largest damping tried
         [N m s/rad]), ("below", speed [rad/s] below which the sweep is
         unstable and the search does not look: half the lowest body frequency)
-        or ("skipped", None) where the search was not asked for.
+        or ("skipped", None) where the search was not asked for, or ("afforded",
+        strongest damper a Floquet scan can follow [N m s/rad]).
     coordinates : list of Coordinate
         Nonrotating coordinates of the mode shapes (``modes.shape``).
     weights : ndarray (n_s, n)
@@ -56,6 +57,10 @@ class SweepResult:
     margins : Margins, optional
         The damping each mode keeps over the operating range and the run-up,
         against the requirement (:class:`groundres.assess.margins.Margins`).
+    between : dict, optional
+        (start, end) -> {label: root} of the modes that grow at the peak of each unstable range
+        that holds none of the sweep's speeds (the modes identified there on their own:
+        interpolating the sweep's across such a range could name the wrong ones).
     """
 
     case: Case
@@ -71,6 +76,7 @@ class SweepResult:
     no_exact_lag_damping: tuple | None = None
     accuracy: dict | None = None
     margins: Margins | None = None
+    between: dict | None = None
 
     @property
     def labels(self) -> list[str]:
@@ -97,6 +103,8 @@ class SweepResult:
         """Labels of the modes that grow somewhere in [start, end] [rad/s]."""
         w = self.rotor_speed
         inside = (w >= start) & (w <= end)
+        if not inside.any() and self.between and (start, end) in self.between:
+            return list(self.between[(start, end)])
         if not inside.any():
             inside = np.abs(w - 0.5 * (start + end)) == np.abs(w - 0.5 * (start + end)).min()
         grows = (self.real_part[inside] > growth_threshold(w[inside])[:, None]).any(0)
@@ -141,8 +149,14 @@ class SweepResult:
         )
 
     def _mode_at(self, speed: float, values) -> str:
+        for labels in self._between_at(speed):  # (a growing mode between the sweep's speeds)
+            return labels[0]
         i = int(np.argmin(np.abs(self.rotor_speed - speed)))
         return self.labels[int(np.nanargmax(values[i]))]
+
+    def _between_at(self, speed: float) -> list:
+        """The growing modes of the unstable range between the sweep's speeds holding ``speed``."""
+        return [list(roots) for (a, b), roots in (self.between or {}).items() if a <= speed <= b and roots]
 
     def summary(self) -> dict:
         """The summary.json content (see :mod:`groundres.results.summary` and docs/case-files.md)."""

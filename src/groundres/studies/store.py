@@ -136,14 +136,22 @@ def open_store(path: Path, fresh: xr.Dataset, chunk: tuple) -> np.ndarray:
 def finished(path: Path, fresh: xr.Dataset) -> bool:
     """Whether the store at ``path`` holds this study (``fresh``: its template) complete: then it
     answers without computing, and so without a cluster."""
+    return done_points(path, fresh) == fresh[DONE].size
+
+
+def done_points(path: Path, fresh: xr.Dataset) -> int:
+    """Points of this study (``fresh``: its template) the store at ``path`` holds computed (0
+    where there is no store, or one of another study: :func:`open_store` says why)."""
     if not (Path(path) / "zarr.json").exists():
-        return False
+        return 0
     try:
         with _open(Path(path)) as stored:
             same = stored.attrs.get("fingerprint") == fresh.attrs["fingerprint"]
-            return same and set(stored.data_vars) == set(fresh.data_vars) and bool(stored[DONE].values.all())
-    except Exception:  # noqa: BLE001 - not readable: not finished (open_store says why)
-        return False
+            if not (same and set(stored.data_vars) == set(fresh.data_vars)):
+                return 0
+            return int(np.count_nonzero(stored[DONE].values))
+    except Exception:  # noqa: BLE001 - not readable: nothing done (open_store says why)
+        return 0
 
 
 def _difference(stored: xr.Dataset, fresh: xr.Dataset) -> str:

@@ -23,8 +23,7 @@ from ..model.units import key_unit
 from .grid import FAILURE, Grid, canonical, make_grid, raw, with_points
 from .measures import ERROR, MEASURES
 from .run import compute, map_batches
-from .store import DONE, load, template, write_netcdf
-from .store import finished as store_finished
+from .store import DONE, done_points, load, template, write_netcdf
 
 #: Zarr store and NetCDF file of a study in its output folder.
 ZARR, NETCDF = "study.zarr", "study.nc"
@@ -165,9 +164,15 @@ def boundary(
 def finished(case, vary: dict, failures: str | None, out, points=None) -> bool:
     """Whether the study's folder ``out`` already holds it whole (:func:`study` would compute
     nothing): a caller need start no cluster."""
+    return remaining(case, vary, failures, out, points) == 0
+
+
+def remaining(case, vary: dict, failures: str | None, out, points=None) -> int:
+    """Grid points of the study that its folder ``out`` does not yet hold computed."""
     case = with_points(case, points)
     grid = make_grid(case, vary, failures)
-    return store_finished(Path(out) / ZARR, template(grid, case, _units(case, grid.keys)))
+    fresh = template(grid, case, _units(case, grid.keys))
+    return grid.size - done_points(Path(out) / ZARR, fresh)
 
 
 def _units(case, keys) -> dict:

@@ -24,7 +24,7 @@ from .coefficients import GRID_CACHE_SIZE, frozen_rates, grid_values
 from .exponents import LIFT_SPREAD, LIFT_STEP
 from .symmetry import symmetry
 from .tableau import DOP8
-from .transition import check_slowest
+from .transition import MAX_STEPS, check_slowest
 from .transition import estimated_steps as transition_steps
 
 #: Estimated Floquet work above which an analysis is refused, in steps of a
@@ -181,3 +181,26 @@ def check_work(system: System, speeds, probe, search, speed_unit, time_invariant
         typical = scans / max(len(search), 1)
         work += 4 * scans + (_SEARCH_EVALUATIONS + _REFINEMENTS) * typical
     check_floquet_work(work, steps, speeds, speed_unit=speed_unit, time_invariant=time_invariant)
+
+
+#: Share of :data:`FLOQUET_WORK_LIMIT` one full scan of the exact lag-damping search may cost at
+#: the strongest damper it tries (it makes a few such scans, and the bisection's evaluations).
+SEARCH_SCAN_SHARE = 1 / 8
+#: Steps per period a speed of the search may need at the strongest damper tried: room below
+#: :data:`groundres.solve.floquet.transition.MAX_STEPS` for the step control's ladder.
+SEARCH_STEPS = MAX_STEPS // 4
+
+
+def affordable_damping(with_damping, grid, upper: float) -> float:
+    """The strongest searched damper, at most ``upper`` [the equations' units], whose Floquet scan of
+    ``grid`` [rad/s] costs at most :data:`SEARCH_SCAN_SHARE` of the work limit with no speed above
+    :data:`SEARCH_STEPS`: a strong damper decays fast, so its periodic equations are stiff for the
+    explicit integrator, most at the lowest speeds. ``with_damping(c)`` is the system with the
+    damper at ``c``. Halvings of ``upper`` (at most :data:`REST_HALVINGS`), estimated, not run."""
+    value = float(upper)
+    for _ in range(REST_HALVINGS):
+        work, steps = floquet_work(with_damping(value), grid, lift=False)
+        if work <= SEARCH_SCAN_SHARE * FLOQUET_WORK_LIMIT and (not len(steps) or steps.max() <= SEARCH_STEPS):
+            break
+        value *= 0.5
+    return value
