@@ -95,6 +95,12 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     help="Run on an existing Dask cluster (e.g. tcp://host:8786).",
 )
 @click.option(
+    "--dashboard",
+    is_flag=True,
+    help="Serve Dask's dashboard of the local cluster on 127.0.0.1 (a free port) and print its "
+    "address (needs bokeh). Without it the cluster serves no web page; it listens on 127.0.0.1 only.",
+)
+@click.option(
     "--boundary",
     default=None,
     metavar="KEY",
@@ -111,7 +117,7 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     "(docs/studies.md).",
 )
 @FORMAT
-def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt):
+def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, points, fmt):
     """Stability of CASE over a grid of its keys (and single lag-damper failures).
 
     Each grid point is a full speed sweep of the case. Writes study.zarr and
@@ -136,15 +142,19 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt
         fail_user(f"--boundary {boundary!r}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
+    if scheduler is not None and dashboard:
+        fail_user("--dashboard: only for the local cluster; an existing cluster (--scheduler) has its own")
     check_study_folder(out_dir, the_case.text, boundary is not None)
     values = dict(zip(grid.keys, grid.values))
     done = boundary is None and study.finished(the_case, values, failures, out_dir)
-    client = None if done else _client(scheduler, workers or CORES)  # (finished: no cluster to start)
+    client = None if done else _client(scheduler, workers or CORES, dashboard)  # (finished: no cluster)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         _close(client)
         fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
+    if client is not None and dashboard:
+        console.print(f"Dask dashboard: {client.dashboard_link}", markup=False)
     started = time.perf_counter()
     memory = []
     try:
@@ -172,13 +182,16 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, fmt
         console.print(_memory_text(memory))
 
 
-def _client(scheduler, workers):
-    from ..studies.run import local_client, remote_client
+def _client(scheduler, workers, dashboard=False):
+    from ..studies import run
 
     if scheduler is None:
-        return local_client(workers)
+        missing = run.dashboard_missing() if dashboard else None
+        if missing:
+            fail_user(f"--dashboard: {missing}")
+        return run.local_client(workers, dashboard)
     try:
-        return remote_client(scheduler)
+        return run.remote_client(scheduler)
     except (OSError, TimeoutError, ValueError) as err:
         fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
 
@@ -208,12 +221,9 @@ def _memory_text(memory: list) -> str:
 
 
 def _close(client):
-    if client is None:  # (a finished study: none was started)
-        return
-    cluster = getattr(client, "cluster", None)
-    client.close()
-    if cluster is not None:
-        cluster.close()
+    from ..studies.run import close
+
+    close(client)  # (None: a finished study, for which none was started)
 
 
 class _Progress:

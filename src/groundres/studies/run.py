@@ -4,13 +4,15 @@ Tasks are chunks of grid points (:func:`groundres.studies.store.chunk_shape`),
 each a full speed sweep per point. On a cluster every task runs on one core
 (groundres' own threads and BLAS held to one: the workers share the cores);
 results come back as tasks finish and are written to the store at once, so
-an interrupted study loses at most the chunks in flight. This module is the
-only one that knows Dask.
+an interrupted study loses at most the chunks in flight. Here too: the
+clusters, the local one started (on this machine only) and an existing one
+connected to. Only studies/ knows Dask.
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 from pathlib import Path
 
@@ -188,9 +190,34 @@ def _peak_memory() -> int:
     return int(peak if sys.platform == "darwin" else peak * 1024)
 
 
-def local_client(workers: int):
-    """A Dask cluster on this machine: ``workers`` processes of one thread each, each held
-    to :func:`worker_memory`.
+#: Where a local cluster listens: this machine only.
+LOOPBACK = "127.0.0.1"
+
+
+def local_client(workers: int, dashboard: bool = False):
+    """A Dask cluster on this machine, for this machine only: ``workers`` processes of one
+    thread each, each held to :func:`worker_memory`.
+
+    Parameters
+    ----------
+    workers : int
+    dashboard : bool
+        Serve Dask's dashboard (on 127.0.0.1, a free port: ``client.dashboard_link``;
+        it needs bokeh: :func:`dashboard_missing`).
+
+    Notes
+    -----
+    Scheduler, nannies and workers listen on 127.0.0.1. Dask's scheduler and
+    workers always open a web server as well: on 127.0.0.1 too, serving nothing
+    but the dashboard where asked.
+
+    The cluster's processes import nothing from the folder this one was started
+    in. They start as ``python -c ...``, which puts the current folder first on
+    ``sys.path`` (a ``weakref.py`` there would run in every worker); Python's
+    safe path (PYTHONSAFEPATH=1, Python >= 3.11) in their environment keeps it
+    out. It is set while the cluster starts (the multiprocessing resource tracker
+    starts then, with the first worker) and in the nannies' environment for
+    workers started later (a worker restarted past its memory limit).
 
     Its workers keep glibc's default memory trimming: Dask sets
     ``MALLOC_TRIM_THRESHOLD_`` = 64 kB in its workers, which hands the many
@@ -198,22 +225,51 @@ def local_client(workers: int):
     point 1.5x its time (0.32 against 0.21 s, measured on the Hammond
     one-damper case with 100 speeds).
     """
+    import logging
+
     import dask
     from distributed import Client, LocalCluster
 
-    # (its scheduler's web server on a free port: studies side by side must not collide on 8787)
     environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
     environ.pop("MALLOC_TRIM_THRESHOLD_", None)
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}), _workers_ignore_ctrl_c():
-        cluster = LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=40,
-            memory_limit=worker_memory(workers),
-        )
-    return Client(cluster)
+    environ[SAFE_PATH] = "1"
+    settings = {"distributed.nanny.pre-spawn-environ": environ, "distributed.worker.http.routes": []}
+    if not dashboard:
+        settings["distributed.scheduler.http.routes"] = []
+    cluster = client = None
+    try:
+        with dask.config.set(settings), _environ({SAFE_PATH: "1"}), _workers_ignore_ctrl_c():
+            cluster = LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                host=LOOPBACK,
+                # (a free port: studies side by side must not collide on Dask's 8787)
+                dashboard_address=f"{LOOPBACK}:0",
+                scheduler_kwargs={"dashboard": dashboard},
+                silence_logs=logging.ERROR,
+                memory_limit=worker_memory(workers),
+            )
+            client = Client(cluster)
+    except BaseException:  # (a failure while it started: nothing left running)
+        close(client if client is not None else cluster)
+        raise
+    return client
+
+
+def dashboard_missing() -> str | None:
+    """Why Dask cannot serve its dashboard here (bokeh missing or too old), or None."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # (distributed warns as well as raising)
+            import distributed.dashboard.scheduler  # noqa: F401
+    except ImportError as err:
+        from distributed.versions import BOKEH_REQUIREMENT
+
+        return f'Dask needs {BOKEH_REQUIREMENT} for its dashboard ({err}): pip install "{BOKEH_REQUIREMENT}"'
+    return None
 
 
 def remote_client(address: str):
@@ -222,6 +278,38 @@ def remote_client(address: str):
     from distributed import Client
 
     return Client(address, timeout="10s")
+
+
+def close(client_or_cluster) -> None:
+    """Close a client, and the local cluster it was made with (:func:`local_client`); an
+    existing cluster (:func:`remote_client`) is its owner's and keeps running."""
+    if client_or_cluster is None:
+        return
+    cluster = getattr(client_or_cluster, "cluster", None)
+    client_or_cluster.close()
+    if cluster is not None:
+        cluster.close()
+
+
+#: Python's safe path (>= 3.11): neither the script's folder nor, for ``-c``, the current
+#: folder is put on ``sys.path``.
+SAFE_PATH = "PYTHONSAFEPATH"
+
+
+@contextlib.contextmanager
+def _environ(values: dict):
+    """``values`` in this process's environment inside the block (processes started there
+    inherit them), the environment as it was after."""
+    before = {key: os.environ.get(key) for key in values}
+    os.environ.update(values)
+    try:
+        yield
+    finally:
+        for key, value in before.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
 
 
 @contextlib.contextmanager

@@ -1,0 +1,176 @@
+"""Studies on Dask clusters as a user runs them: what the local cluster exposes, what its
+processes import, what --scheduler accepts, how a study stops, and a real cluster of
+Dask's own command-line processes, a worker of which is killed mid-study.
+
+Every process a test starts is started in its own session and its whole group is
+ended in a ``finally`` (no process outlives its test).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import psutil
+import pytest
+from click.testing import CliRunner
+
+from conftest import HAMMOND_TOML
+from groundres.cli import main
+from groundres.studies import run
+
+BIN = Path(sys.executable).parent
+GROUNDRES, DASK = BIN / "groundres", BIN / "dask"
+#: The groundres under test, for every process a test starts (the console script imports it from here).
+SOURCE = str(Path(__import__("groundres").__file__).parents[1])
+#: The Hammond rotor on its hub, a short sweep (Floquet where a damper fails), as in test_study.py.
+SMALL = HAMMOND_TOML.replace("points = 60", "points = 24").replace("start = 0.5", "start = 10.0")
+
+
+def environment(**more) -> dict:
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONSAFEPATH", "GROUNDRES_DEBUG")}
+    env.update(PYTHONPATH=SOURCE, MPLBACKEND="Agg", **more)
+    return env
+
+
+def end(proc: subprocess.Popen) -> None:
+    """End ``proc`` and every process of its group (it was started in a session of its own)."""
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGTERM)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        pass
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait(timeout=10)
+
+
+def until(condition, seconds: float, what: str):
+    """Poll ``condition`` until it gives something (returned) other than None or False, for at
+    most ``seconds``."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        got = condition()
+        if got is not None and got is not False:
+            return got
+        time.sleep(0.02)
+    raise AssertionError(f"{what}: not within {seconds} s")
+
+
+# -- the local cluster: loopback only, no dashboard unless asked ----------------------------------
+
+
+def listening(session_only: bool = True) -> list:
+    """(pid, address) of every listening socket of this process and its children (those of this
+    process's session: a test's own Dask processes run in sessions of their own)."""
+    me = psutil.Process()
+    out = []
+    for proc in [me, *me.children(recursive=True)]:
+        try:
+            if session_only and os.getsid(proc.pid) != os.getsid(0):
+                continue
+            out += [
+                (proc.pid, c.laddr) for c in proc.net_connections("inet") if c.status == psutil.CONN_LISTEN
+            ]
+        except (psutil.NoSuchProcess, ProcessLookupError):
+            pass
+    return out
+
+
+def status_of(url: str) -> int:
+    try:
+        with urllib.request.urlopen(url, timeout=5) as response:
+            return response.status
+    except urllib.error.HTTPError as err:
+        return err.code
+
+
+@pytest.mark.slow
+def test_the_local_cluster_listens_on_loopback_only_and_serves_no_dashboard_unless_asked():
+    for dashboard in (False, True):
+        client = run.local_client(2, dashboard=dashboard)
+        try:
+            sockets = listening()
+            # scheduler, 2 nannies, 2 workers, and the web servers of the scheduler and workers
+            assert len(sockets) >= 7, sockets
+            assert all(address.ip in ("127.0.0.1", "::1") for _, address in sockets), sockets
+            scheduler = f"http://127.0.0.1:{client.cluster.scheduler.http_server.port}"
+            workers = client.run(lambda dask_worker: dask_worker.http_server.port)
+            for port in workers.values():
+                assert status_of(f"http://127.0.0.1:{port}/health") == 404  # (serves nothing)
+            if dashboard:
+                assert client.dashboard_link.startswith("http://127.0.0.1:")
+                assert status_of(client.dashboard_link) == 200
+            else:
+                for page in ("/status", "/info/main/workers.html", "/health", "/metrics"):
+                    assert status_of(scheduler + page) == 404, page
+        finally:
+            run.close(client)
+
+
+def test_the_dashboard_is_asked_for_and_its_address_printed(tmp_path, monkeypatch):
+    from groundres.cli import study as cli_study
+
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    args = ["study", str(case), "--vary", "rotor.lag_damping=2000:4000:2", "--out", str(tmp_path / "out")]
+    local = CliRunner().invoke(main, [*args, "--dashboard", "--scheduler", "tcp://127.0.0.1:9"])
+    assert local.exit_code == 2 and "--dashboard: only for the local cluster" in local.output
+    missing = run.dashboard_missing()
+    if missing is not None:  # (bokeh is not installed: refused, saying what is needed)
+        result = CliRunner().invoke(main, [*args, "--dashboard", "--workers", "1"])
+        assert result.exit_code == 2, result.output
+        assert "--dashboard: Dask needs bokeh" in result.output and "Traceback" not in result.output
+        assert not (tmp_path / "out").exists()
+    started = []
+
+    def client(scheduler, workers, dashboard=False):
+        started.append(dashboard)
+        return run.local_client(workers, dashboard)
+
+    monkeypatch.setattr(run, "dashboard_missing", lambda: None)  # (Dask then serves a page saying
+    monkeypatch.setattr(cli_study, "_client", client)  # what it needs: its address is printed alike)
+    result = CliRunner().invoke(main, [*args, "--dashboard", "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    assert started == [True]
+    assert "Dask dashboard: http://127.0.0.1:" in result.output
+
+
+# -- nothing is imported from the folder a study is started in --------------------------------------
+
+#: Modules a ``python -c`` child imports before multiprocessing gives it its parent's sys.path.
+SHADOWED = ("multiprocessing", "weakref", "runpy", "pickle", "socket", "selectors", "signal", "struct")
+
+
+@pytest.mark.slow
+def test_the_cluster_imports_nothing_from_the_folder_the_study_is_started_in(tmp_path):
+    here = tmp_path / "here"
+    here.mkdir()
+    for name in SHADOWED:
+        (here / f"{name}.py").write_text(f"open({str(tmp_path / (name + '.imported'))!r}, 'w').close()\n")
+    (here / "case.toml").write_text(SMALL)
+    args = ["study", "case.toml", "--vary", "rotor.lag_damping=2000:4000:2", "--workers", "2", "--out", "out"]
+    proc = subprocess.Popen(
+        [str(GROUNDRES), *args],
+        cwd=here,
+        env=environment(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        out, err = proc.communicate(timeout=120)
+    finally:
+        end(proc)
+    assert proc.returncode == 0, err
+    assert sorted(p.name for p in tmp_path.glob("*.imported")) == []
+    assert "Study of 2 grid points" in out
