@@ -11,8 +11,11 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import socket
+import struct
 import subprocess
 import sys
+import threading
 import time
 import urllib.error
 import urllib.request
@@ -174,3 +177,77 @@ def test_the_cluster_imports_nothing_from_the_folder_the_study_is_started_in(tmp
     assert proc.returncode == 0, err
     assert sorted(p.name for p in tmp_path.glob("*.imported")) == []
     assert "Study of 2 grid points" in out
+
+
+# -- --scheduler: only a Dask scheduler, within a deadline --------------------------------------------
+
+
+@contextlib.contextmanager
+def impostor(behaviour: str):
+    """A server on 127.0.0.1 that is not a Dask scheduler: its address (tcp://...)."""
+    sock = socket.create_server(("127.0.0.1", 0))
+    sock.settimeout(0.05)
+    stop, held = threading.Event(), []
+
+    def serve():
+        while not stop.is_set():
+            try:
+                conn, _ = sock.accept()
+            except TimeoutError:
+                continue
+            if behaviour == "closes":
+                conn.close()
+                continue
+            held.append(conn)
+            if behaviour == "http":  # (its first 8 bytes read as a size: 3.5e18)
+                conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n")
+            elif behaviour == "noise":  # (a plausible size, then bytes that are no Dask frames)
+                conn.sendall(struct.pack("Q", 40) + bytes(range(200, 240)))
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    try:
+        yield f"tcp://127.0.0.1:{sock.getsockname()[1]}"
+    finally:
+        stop.set()
+        thread.join(5)
+        for conn in held:
+            conn.close()
+        sock.close()
+
+
+def invoke_within(args, seconds: float):
+    """The command run in this process, in a thread given ``seconds`` (a hang fails the test
+    instead of stopping it); (result, seconds taken)."""
+    box = {}
+    thread = threading.Thread(target=lambda: box.update(result=CliRunner().invoke(main, args)), daemon=True)
+    started = time.monotonic()
+    thread.start()
+    thread.join(seconds)
+    assert not thread.is_alive(), f"groundres {' '.join(args)}: still running after {seconds} s"
+    return box["result"], time.monotonic() - started
+
+
+@pytest.mark.parametrize(
+    "behaviour, words",
+    [
+        ("http", "bytes that are not Dask's greeting"),
+        ("noise", "bytes that are not Dask's greeting"),
+        ("closes", "closed the connection without Dask's greeting"),
+        ("silent", "did not answer within 1.5 s"),
+    ],
+)
+def test_a_scheduler_address_where_something_else_answers_is_refused_in_bounded_time(
+    tmp_path, monkeypatch, behaviour, words
+):
+    monkeypatch.setattr(run, "CONNECT_SECONDS", 1.5)
+    case = tmp_path / "case.toml"
+    case.write_text(SMALL)
+    with impostor(behaviour) as address:
+        args = ["study", str(case), "--vary", "rotor.lag_damping=2000:4000:2", "--scheduler", address]
+        result, seconds = invoke_within([*args, "--out", str(tmp_path / "out")], 30)
+    assert result.exit_code == 2, result.output
+    assert f"--scheduler '{address}': not a Dask scheduler" in result.output
+    assert words in result.output and "Traceback" not in result.output
+    assert seconds < 1.5 + 3.0
+    assert not (tmp_path / "out").exists()

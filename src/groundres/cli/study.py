@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from ..errors import shown
 from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_console
 
 #: The map in each format --format offers.
@@ -92,7 +93,8 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     "--scheduler",
     default=None,
     metavar="ADDRESS",
-    help="Run on an existing Dask cluster (e.g. tcp://host:8786).",
+    help="Run on an existing Dask cluster (e.g. tcp://host:8786); its scheduler must answer as "
+    "one within 10 s.",
 )
 @click.option(
     "--dashboard",
@@ -192,8 +194,8 @@ def _client(scheduler, workers, dashboard=False):
         return run.local_client(workers, dashboard)
     try:
         return run.remote_client(scheduler)
-    except (OSError, TimeoutError, ValueError) as err:
-        fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
+    except (OSError, TimeoutError, ValueError) as err:  # (each says why, in words)
+        fail_user(f"--scheduler {shown(scheduler)}: {err}")
 
 
 def _memory(client) -> list:

@@ -6,7 +6,7 @@ each a full speed sweep per point. On a cluster every task runs on one core
 results come back as tasks finish and are written to the store at once, so
 an interrupted study loses at most the chunks in flight. Here too: the
 clusters, the local one started (on this machine only) and an existing one
-connected to. Only studies/ knows Dask.
+connected to (:mod:`groundres.studies.handshake` first). Only studies/ knows Dask.
 """
 
 from __future__ import annotations
@@ -192,6 +192,8 @@ def _peak_memory() -> int:
 
 #: Where a local cluster listens: this machine only.
 LOOPBACK = "127.0.0.1"
+#: How long an existing cluster's scheduler has to answer [s] (:func:`remote_client`).
+CONNECT_SECONDS = 10.0
 
 
 def local_client(workers: int, dashboard: bool = False):
@@ -272,12 +274,23 @@ def dashboard_missing() -> str | None:
     return None
 
 
-def remote_client(address: str):
+def remote_client(address: str, seconds: float | None = None):
     """A client of the Dask cluster whose scheduler listens at ``address`` (e.g.
-    tcp://host:8786); OSError, TimeoutError or ValueError where none is reached."""
+    tcp://host:8786), once the scheduler has answered as one within ``seconds``
+    (:data:`CONNECT_SECONDS`; :func:`groundres.studies.handshake.check_scheduler`).
+
+    Raises ConnectionError, TimeoutError or ValueError, saying in words why no
+    scheduler answers there: nothing listens, something else does, or it is silent.
+    """
     from distributed import Client
 
-    return Client(address, timeout="10s")
+    from .handshake import check_scheduler
+
+    left = check_scheduler(address, CONNECT_SECONDS if seconds is None else seconds)
+    try:
+        return Client(address, timeout=max(left, 1.0))
+    except (OSError, TimeoutError, ValueError) as err:
+        raise ConnectionError(f"no Dask scheduler reached there ({type(err).__name__}: {err})") from err
 
 
 def close(client_or_cluster) -> None:
