@@ -185,13 +185,15 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
 
 
 def _client(scheduler, workers, dashboard=False):
+    import os
+
     from ..studies import run
 
     if scheduler is None:
         missing = run.dashboard_missing() if dashboard else None
         if missing:
             fail_user(f"--dashboard: {missing}")
-        return run.local_client(workers, dashboard)
+        return run.local_client(workers, dashboard, quiet=not os.environ.get("GROUNDRES_DEBUG"))
     try:
         return run.remote_client(scheduler)
     except (OSError, TimeoutError, ValueError) as err:  # (each says why, in words)

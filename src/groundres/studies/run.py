@@ -148,8 +148,10 @@ def map_batches(fn, batches, client=None, progress=None, take=None, count=None):
     from distributed import as_completed
 
     futures = {client.submit(_in_place, fn, *batch, pure=False): i for i, batch in enumerate(batches)}
-    for future in as_completed(futures):
-        taken(futures[future], future.result())
+    # (results gathered by as_completed in the client's own loop: this thread only waits, so an
+    # interrupt here leaves no gather of Dask's cut half-way)
+    for future, result in as_completed(futures, with_results=True):
+        taken(futures[future], result)
     return out
 
 
@@ -196,7 +198,7 @@ LOOPBACK = "127.0.0.1"
 CONNECT_SECONDS = 10.0
 
 
-def local_client(workers: int, dashboard: bool = False):
+def local_client(workers: int, dashboard: bool = False, quiet: bool = True):
     """A Dask cluster on this machine, for this machine only: ``workers`` processes of one
     thread each, each held to :func:`worker_memory`.
 
@@ -206,6 +208,11 @@ def local_client(workers: int, dashboard: bool = False):
     dashboard : bool
         Serve Dask's dashboard (on 127.0.0.1, a free port: ``client.dashboard_link``;
         it needs bokeh: :func:`dashboard_missing`).
+    quiet : bool
+        Keep Dask's log lines off the terminal: the study reports what fails (a
+        failed task raises in this process), and a cluster closed while its
+        workers compute logs races of its own (a worker's heartbeat cut by its
+        own closing) as errors.
 
     Notes
     -----
@@ -240,7 +247,7 @@ def local_client(workers: int, dashboard: bool = False):
         settings["distributed.scheduler.http.routes"] = []
     cluster = client = None
     try:
-        with dask.config.set(settings), _environ({SAFE_PATH: "1"}), _workers_ignore_ctrl_c():
+        with dask.config.set(settings), _environ({SAFE_PATH: "1"}), _starting():
             cluster = LocalCluster(
                 n_workers=workers,
                 threads_per_worker=1,
@@ -249,11 +256,11 @@ def local_client(workers: int, dashboard: bool = False):
                 # (a free port: studies side by side must not collide on Dask's 8787)
                 dashboard_address=f"{LOOPBACK}:0",
                 scheduler_kwargs={"dashboard": dashboard},
-                silence_logs=logging.ERROR,
+                silence_logs=logging.CRITICAL if quiet else logging.ERROR,
                 memory_limit=worker_memory(workers),
             )
             client = Client(cluster)
-    except BaseException:  # (a failure while it started: nothing left running)
+    except BaseException:  # (SIGTERM held while it started, or a failure: nothing left running)
         close(client if client is not None else cluster)
         raise
     return client
@@ -326,16 +333,32 @@ def _environ(values: dict):
 
 
 @contextlib.contextmanager
-def _workers_ignore_ctrl_c():
-    """Start processes with SIGINT ignored (a Python started so keeps ignoring it): Ctrl-C
-    at a terminal reaches the whole process group, and the workers would each print a
-    traceback; this process alone is interrupted and closes them (the study resumes)."""
+def _starting():
+    """While a local cluster starts: processes started with SIGINT ignored, and SIGTERM held.
+
+    Ctrl-C at a terminal reaches the whole process group, and the workers would
+    each print a traceback. A Python started with SIGINT ignored keeps ignoring
+    it: this process alone is interrupted, and closes them (the study resumes).
+    A Ctrl-C in the second or two the cluster takes to start is ignored by this
+    process too: only an ignored SIGINT passes to the processes it starts, and a
+    signal's handling is the whole process's. (Blocking SIGINT meanwhile does not
+    hold it: BLAS's own threads, which do not block it, take it and discard it.)
+
+    SIGTERM meanwhile is held and handled once the cluster is up (then closed
+    whole): handled at once, it would leave a cluster half started, which Dask's
+    own exit handler then fails to close, with a traceback.
+    """
     try:
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        interrupt = signal.signal(signal.SIGINT, signal.SIG_IGN)
     except ValueError:  # (not the main thread: nothing to change)
         yield
         return
+    held = []
+    terminate = signal.signal(signal.SIGTERM, lambda signum, frame: held.append(signum))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        signal.signal(signal.SIGINT, interrupt)
+        signal.signal(signal.SIGTERM, terminate if terminate is not None else signal.SIG_DFL)
+        if held:
+            signal.raise_signal(signal.SIGTERM)  # (handled now, as it would have been)
