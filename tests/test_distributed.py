@@ -9,6 +9,7 @@ ended in a ``finally`` (no process outlives its test).
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import signal
 import socket
@@ -24,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import psutil
 import pytest
+import xarray as xr
 from click.testing import CliRunner
 
 from conftest import HAMMOND_TOML
@@ -325,3 +327,204 @@ def test_a_sigterm_while_the_cluster_starts_is_handled_once_it_has_started(tmp_p
         end(proc)
     assert proc.returncode == 143, (out, err)
     assert err.splitlines() == ["terminated"] and out == ""
+
+
+# -- a cluster of Dask's own processes ------------------------------------------------------------------
+
+GRID = ["--vary", "rotor.lag_damping=1500:6000:20", "--failures", "single"]
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(tmp_path_factory):
+    """`dask scheduler` and two `dask worker` processes (one thread each, no nanny's second
+    worker) on 127.0.0.1, separate from this process: (scheduler address, worker processes)."""
+    from groundres.solve.floquet import compiled
+
+    compiled.kernel(wait=True)  # (ready before any study: every process then takes the compiled kernel)
+    folder = tmp_path_factory.mktemp("dask")
+    spec = folder / "scheduler.json"
+    env = environment(PYTHONSAFEPATH="1")
+    procs = []
+
+    def start(*args, name):
+        log = open(folder / f"{name}.log", "w")
+        procs.append(
+            subprocess.Popen(
+                [str(DASK), *args],
+                cwd=folder,
+                env=env,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+            )
+        )
+        log.close()
+        return procs[-1]
+
+    try:
+        start(
+            "scheduler",
+            *("--host", "127.0.0.1", "--port", "0", "--no-dashboard", "--scheduler-file", str(spec)),
+            name="scheduler",
+        )
+        until(lambda: spec.exists() and spec.stat().st_size > 0, 60, "dask scheduler")
+        address = json.loads(spec.read_text())["address"]
+        worker = ("--scheduler-file", str(spec), "--host", "127.0.0.1", "--nthreads", "1", "--no-dashboard")
+        workers = [start("worker", *worker, "--name", f"w{k}", name=f"worker{k}") for k in (1, 2)]
+        with remote(address) as client:
+            client.wait_for_workers(2, timeout=60)
+            found = client.run(lambda: __import__("groundres").__file__)  # (the groundres under test)
+        assert set(found.values()) == {str(Path(SOURCE) / "groundres" / "__init__.py")}, found
+        yield address, workers
+    finally:
+        for proc in procs:
+            end(proc)
+
+
+@contextlib.contextmanager
+def remote(address):
+    from distributed import Client
+
+    client = Client(address, timeout="20s")
+    try:
+        yield client
+    finally:
+        client.close()
+
+
+def run_study(tmp_path, name, *more) -> tuple[subprocess.Popen, Path]:
+    (tmp_path / "case.toml").write_text(SMALL)
+    out = tmp_path / name
+    proc = subprocess.Popen(
+        [str(GROUNDRES), "study", "case.toml", *GRID, "--out", str(out), *more],
+        cwd=tmp_path,
+        env=environment(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    return proc, out
+
+
+def finish(proc, seconds=120) -> str:
+    try:
+        out, err = proc.communicate(timeout=seconds)
+    finally:
+        end(proc)
+    assert proc.returncode == 0, err
+    assert err == ""
+    return out
+
+
+@pytest.fixture(scope="module")
+def on_the_local_cluster(tmp_path_factory):
+    """The study of GRID on a local cluster of 2 workers (the reference)."""
+    tmp_path = tmp_path_factory.mktemp("local")
+    proc, out = run_study(tmp_path, "local", "--workers", "2")
+    finish(proc)
+    return xr.open_dataset(out / "study.nc").load()
+
+
+@pytest.mark.slow
+def test_a_study_on_a_cluster_of_dask_processes_equals_the_study_on_the_local_cluster(
+    tmp_path, dask_cluster, on_the_local_cluster
+):
+    """Equal exactly: each point is computed in one process on one thread (BLAS held to one),
+    by the same code and the same compiled kernel on the same machine, so the same operations
+    in the same order whichever process runs it."""
+    address, _ = dask_cluster
+    proc, out = run_study(tmp_path, "remote", "--scheduler", address)
+    text = finish(proc)
+    assert "Study of 100 grid points" in text
+    remote_ds = xr.open_dataset(out / "study.nc").load()
+    assert (remote_ds.error.values == "").all()
+    xr.testing.assert_identical(remote_ds, on_the_local_cluster)
+
+
+@pytest.mark.slow
+def test_a_worker_address_is_not_taken_for_the_scheduler(tmp_path, dask_cluster):
+    address, _ = dask_cluster
+    with remote(address) as client:
+        worker = next(iter(client.scheduler_info()["workers"]))
+    (tmp_path / "case.toml").write_text(SMALL)
+    args = ["study", str(tmp_path / "case.toml"), "--vary", "rotor.lag_damping=2000:4000:2"]
+    result, seconds = invoke_within([*args, "--scheduler", worker, "--out", str(tmp_path / "out")], 30)
+    assert result.exit_code == 2, result.output
+    assert f"--scheduler '{worker}': a Dask worker, not a scheduler" in result.output
+    assert seconds < 10
+
+
+def chunk_of(key: str) -> int | None:
+    """The index of a study task's chunk, from its key (``compute_points-<token>-<index>``)."""
+    prefix, _, index = str(key).rpartition("-")
+    return int(index) if prefix.startswith("compute_points-") else None
+
+
+@pytest.mark.slow
+def test_a_worker_killed_mid_study_loses_nothing_and_computes_no_finished_chunk_again(
+    tmp_path, dask_cluster, on_the_local_cluster
+):
+    """SIGKILL to a worker process that has computed chunks already written to the store: Dask
+    computes the task it held again elsewhere and the study completes; no chunk written
+    before the kill is computed again (its result was let go once written: the scheduler's
+    task stream holds each of their keys once), and the store equals the local study."""
+    import tomllib
+
+    import zarr
+
+    from groundres.model.schema import parse_case
+    from groundres.studies import store
+    from groundres.studies.grid import make_grid
+    from groundres.studies.run import study_chunk
+
+    address, workers = dask_cluster
+    with remote(address) as client:
+        client.get_task_stream()  # (the scheduler records every task from here on)
+        first = len(client.get_task_stream())
+        proc, out = run_study(tmp_path, "killed", "--scheduler", address)
+        try:
+            zstore = out / "study.zarr"
+
+            def done_chunks():
+                try:
+                    done = np.asarray(zarr.open_group(str(zstore), mode="r")["done"][...])
+                except Exception:  # noqa: BLE001 - (not yet there, or being written: read again)
+                    return None
+                return done if done.any(axis=-1).sum() >= 4 else None
+
+            done = until(done_chunks, 60, "four chunks written")
+            written = client.get_task_stream()[first:]
+            time.sleep(0.3)  # (their results let go: the scheduler has forgotten them)
+            by_worker = {}
+            for record in written:
+                by_worker.setdefault(record["worker"], []).append(chunk_of(record["key"]))
+            # the worker that computed most of them; its process (the nanny's child) killed
+            host = max(by_worker, key=lambda w: len(by_worker[w]))
+            names = {a: w["name"] for a, w in client.scheduler_info()["workers"].items()}
+            nanny = workers[int(names[host][1:]) - 1]
+            child = next(
+                c for c in psutil.Process(nanny.pid).children() if "spawn_main" in " ".join(c.cmdline())
+            )
+            assert proc.poll() is None, "the study ended before the kill"
+            child.send_signal(signal.SIGKILL)
+            text = finish(proc)
+        finally:
+            end(proc)
+        records = client.get_task_stream()[first:]
+    assert "Study of 100 grid points" in text
+    grid = make_grid(
+        parse_case(tomllib.loads(SMALL), "small", SMALL), {"rotor.lag_damping": "1500:6000:20"}, "single"
+    )
+    where = store.chunks(grid.shape, study_chunk(grid))
+    before = {i for i, w in enumerate(where) if done[w].all()}
+    counts = {}
+    for record in records:
+        if chunk_of(record["key"]) is not None:
+            counts[chunk_of(record["key"])] = counts.get(chunk_of(record["key"]), 0) + 1
+    assert set(counts) == set(range(len(where)))  # every chunk computed
+    assert before and len(before) < len(where)  # (killed mid-study)
+    assert all(counts[i] == 1 for i in before), (before, counts)
+    assert set(by_worker[host]) & before  # (the killed worker held some of them)
+    result = xr.open_dataset(out / "study.nc").load()
+    xr.testing.assert_identical(result, on_the_local_cluster)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -147,11 +148,18 @@ def map_batches(fn, batches, client=None, progress=None, take=None, count=None):
         return out
     from distributed import as_completed
 
-    futures = {client.submit(_in_place, fn, *batch, pure=False): i for i, batch in enumerate(batches)}
+    token = uuid.uuid4().hex  # (keys named after the work and the batch: compute_points-<token>-<i>)
+    futures = {
+        client.submit(_in_place, fn, *batch, key=f"{fn.__name__}-{token}-{i}"): i
+        for i, batch in enumerate(batches)
+    }
     # (results gathered by as_completed in the client's own loop: this thread only waits, so an
-    # interrupt here leaves no gather of Dask's cut half-way)
+    # interrupt here leaves no gather of Dask's cut half-way; each result let go once taken, so
+    # a worker lost later has nothing of it to compute again)
     for future, result in as_completed(futures, with_results=True):
-        taken(futures[future], result)
+        i = futures.pop(future)
+        future.release()
+        taken(i, result)
     return out
 
 
