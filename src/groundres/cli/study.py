@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from ..errors import shown
 from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_console
 
 #: The map in each format --format offers.
@@ -92,7 +93,14 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     "--scheduler",
     default=None,
     metavar="ADDRESS",
-    help="Run on an existing Dask cluster (e.g. tcp://host:8786).",
+    help="Run on an existing Dask cluster (e.g. tcp://host:8786); its scheduler must answer as "
+    "one within 10 s.",
+)
+@click.option(
+    "--dashboard",
+    is_flag=True,
+    help="Serve Dask's dashboard of the local cluster on 127.0.0.1 (a free port) and print its "
+    "address (needs bokeh). Without it the cluster serves no web page; it listens on 127.0.0.1 only.",
 )
 @click.option(
     "--boundary",
@@ -120,7 +128,7 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     "timed here, times the sweeps to make, shared between the workers).",
 )
 @FORMAT
-def command(case, vary, failures, out, workers, scheduler, boundary, points, max_hours, fmt):
+def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, points, max_hours, fmt):
     """Stability of CASE over a grid of its keys (and single lag-damper failures).
 
     Each grid point is a full speed sweep of the case. Writes study.zarr and
@@ -144,15 +152,21 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, max
         fail_user(f"--boundary {boundary!r}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
+    if scheduler is not None and dashboard:
+        fail_user("--dashboard: only for the local cluster; an existing cluster (--scheduler) has its own")
     check_study_folder(out_dir, the_case.text, boundary is not None)
     values = dict(zip(grid.keys, grid.values))
     left = grid.size if boundary is not None else study.remaining(the_case, values, failures, out_dir)
-    client = None if not left else _started(the_case, grid, left, boundary, scheduler, workers, max_hours)
+    client = (  # (finished: no cluster to start)
+        None if not left else _started(the_case, grid, left, boundary, scheduler, workers, dashboard, max_hours)
+    )
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         _close(client)
         fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
+    if client is not None and dashboard:
+        console.print(f"Dask dashboard: {client.dashboard_link}", markup=False)
     started = time.perf_counter()
     memory = []
     try:
@@ -180,7 +194,7 @@ def command(case, vary, failures, out, workers, scheduler, boundary, points, max
         console.print(_memory_text(memory))
 
 
-def _started(the_case, grid, left, boundary, scheduler, workers, max_hours):
+def _started(the_case, grid, left, boundary, scheduler, workers, dashboard, max_hours):
     """The study's client, after its cost is estimated and found within ``max_hours`` (the local
     cluster's, before it starts; an existing cluster's, on its threads, once reached)."""
     import dataclasses
@@ -191,7 +205,7 @@ def _started(the_case, grid, left, boundary, scheduler, workers, max_hours):
     estimated = cost.estimate(the_case, grid, left, workers or CORES, boundary)
     if scheduler is None:
         cost.check(estimated, max_hours)
-    client = _client(scheduler, workers or CORES)
+    client = _client(scheduler, workers or CORES, dashboard)
     if scheduler is not None:
         threads = sum(w.get("nthreads", 1) for w in client.scheduler_info().get("workers", {}).values())
         estimated = dataclasses.replace(estimated, workers=max(threads, 1))
@@ -204,15 +218,20 @@ def _started(the_case, grid, left, boundary, scheduler, workers, max_hours):
     return client
 
 
-def _client(scheduler, workers):
-    from ..studies.run import local_client, remote_client
+def _client(scheduler, workers, dashboard=False):
+    import os
+
+    from ..studies import run
 
     if scheduler is None:
-        return local_client(workers)
+        missing = run.dashboard_missing() if dashboard else None
+        if missing:
+            fail_user(f"--dashboard: {missing}")
+        return run.local_client(workers, dashboard, quiet=not os.environ.get("GROUNDRES_DEBUG"))
     try:
-        return remote_client(scheduler)
-    except (OSError, TimeoutError, ValueError) as err:
-        fail_user(f"--scheduler {scheduler!r}: no Dask scheduler reached there ({type(err).__name__}: {err})")
+        return run.remote_client(scheduler)
+    except (OSError, TimeoutError, ValueError) as err:  # (each says why, in words)
+        fail_user(f"--scheduler {shown(scheduler)}: {err}")
 
 
 def _memory(client) -> list:
@@ -240,12 +259,9 @@ def _memory_text(memory: list) -> str:
 
 
 def _close(client):
-    if client is None:  # (a finished study: none was started)
-        return
-    cluster = getattr(client, "cluster", None)
-    client.close()
-    if cluster is not None:
-        cluster.close()
+    from ..studies.run import close
+
+    close(client)  # (None: a finished study, for which none was started)
 
 
 class _Progress:

@@ -4,14 +4,17 @@ Tasks are chunks of grid points (:func:`groundres.studies.store.chunk_shape`),
 each a full speed sweep per point. On a cluster every task runs on one core
 (groundres' own threads and BLAS held to one: the workers share the cores);
 results come back as tasks finish and are written to the store at once, so
-an interrupted study loses at most the chunks in flight. This module is the
-only one that knows Dask.
+an interrupted study loses at most the chunks in flight. Here too: the
+clusters, the local one started (on this machine only) and an existing one
+connected to (:mod:`groundres.studies.handshake` first). Only studies/ knows Dask.
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -145,9 +148,18 @@ def map_batches(fn, batches, client=None, progress=None, take=None, count=None):
         return out
     from distributed import as_completed
 
-    futures = {client.submit(_in_place, fn, *batch, pure=False): i for i, batch in enumerate(batches)}
-    for future in as_completed(futures):
-        taken(futures[future], future.result())
+    token = uuid.uuid4().hex  # (keys named after the work and the batch: compute_points-<token>-<i>)
+    futures = {
+        client.submit(_in_place, fn, *batch, key=f"{fn.__name__}-{token}-{i}"): i
+        for i, batch in enumerate(batches)
+    }
+    # (results gathered by as_completed in the client's own loop: this thread only waits, so an
+    # interrupt here leaves no gather of Dask's cut half-way; each result let go once taken, so
+    # a worker lost later has nothing of it to compute again)
+    for future, result in as_completed(futures, with_results=True):
+        i = futures.pop(future)
+        future.release()
+        taken(i, result)
     return out
 
 
@@ -188,9 +200,41 @@ def _peak_memory() -> int:
     return int(peak if sys.platform == "darwin" else peak * 1024)
 
 
-def local_client(workers: int):
-    """A Dask cluster on this machine: ``workers`` processes of one thread each, each held
-    to :func:`worker_memory`.
+#: Where a local cluster listens: this machine only.
+LOOPBACK = "127.0.0.1"
+#: How long an existing cluster's scheduler has to answer [s] (:func:`remote_client`).
+CONNECT_SECONDS = 10.0
+
+
+def local_client(workers: int, dashboard: bool = False, quiet: bool = True):
+    """A Dask cluster on this machine, for this machine only: ``workers`` processes of one
+    thread each, each held to :func:`worker_memory`.
+
+    Parameters
+    ----------
+    workers : int
+    dashboard : bool
+        Serve Dask's dashboard (on 127.0.0.1, a free port: ``client.dashboard_link``;
+        it needs bokeh: :func:`dashboard_missing`).
+    quiet : bool
+        Keep Dask's log lines off the terminal: the study reports what fails (a
+        failed task raises in this process), and a cluster closed while its
+        workers compute logs races of its own (a worker's heartbeat cut by its
+        own closing) as errors.
+
+    Notes
+    -----
+    Scheduler, nannies and workers listen on 127.0.0.1. Dask's scheduler and
+    workers always open a web server as well: on 127.0.0.1 too, serving nothing
+    but the dashboard where asked.
+
+    The cluster's processes import nothing from the folder this one was started
+    in. They start as ``python -c ...``, which puts the current folder first on
+    ``sys.path`` (a ``weakref.py`` there would run in every worker); Python's
+    safe path (PYTHONSAFEPATH=1, Python >= 3.11) in their environment keeps it
+    out. It is set while the cluster starts (the multiprocessing resource tracker
+    starts then, with the first worker) and in the nannies' environment for
+    workers started later (a worker restarted past its memory limit).
 
     Its workers keep glibc's default memory trimming: Dask sets
     ``MALLOC_TRIM_THRESHOLD_`` = 64 kB in its workers, which hands the many
@@ -198,43 +242,131 @@ def local_client(workers: int):
     point 1.5x its time (0.32 against 0.21 s, measured on the Hammond
     one-damper case with 100 speeds).
     """
+    import logging
+
     import dask
     from distributed import Client, LocalCluster
 
-    # (its scheduler's web server on a free port: studies side by side must not collide on 8787)
     environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}))
     environ.pop("MALLOC_TRIM_THRESHOLD_", None)
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}), _workers_ignore_ctrl_c():
-        cluster = LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=40,
-            memory_limit=worker_memory(workers),
-        )
-    return Client(cluster)
+    environ[SAFE_PATH] = "1"
+    settings = {"distributed.nanny.pre-spawn-environ": environ, "distributed.worker.http.routes": []}
+    if not dashboard:
+        settings["distributed.scheduler.http.routes"] = []
+    cluster = client = None
+    try:
+        with dask.config.set(settings), _environ({SAFE_PATH: "1"}), _starting():
+            cluster = LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                host=LOOPBACK,
+                # (a free port: studies side by side must not collide on Dask's 8787)
+                dashboard_address=f"{LOOPBACK}:0",
+                scheduler_kwargs={"dashboard": dashboard},
+                silence_logs=logging.CRITICAL if quiet else logging.ERROR,
+                memory_limit=worker_memory(workers),
+            )
+            client = Client(cluster)
+    except BaseException:  # (SIGTERM held while it started, or a failure: nothing left running)
+        close(client if client is not None else cluster)
+        raise
+    return client
 
 
-def remote_client(address: str):
+def dashboard_missing() -> str | None:
+    """Why Dask cannot serve its dashboard here (bokeh missing or too old), or None."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # (distributed warns as well as raising)
+            import distributed.dashboard.scheduler  # noqa: F401
+    except ImportError as err:
+        from distributed.versions import BOKEH_REQUIREMENT
+
+        return f'Dask needs {BOKEH_REQUIREMENT} for its dashboard ({err}): pip install "{BOKEH_REQUIREMENT}"'
+    return None
+
+
+def remote_client(address: str, seconds: float | None = None):
     """A client of the Dask cluster whose scheduler listens at ``address`` (e.g.
-    tcp://host:8786); OSError, TimeoutError or ValueError where none is reached."""
+    tcp://host:8786), once the scheduler has answered as one within ``seconds``
+    (:data:`CONNECT_SECONDS`; :func:`groundres.studies.handshake.check_scheduler`).
+
+    Raises ConnectionError, TimeoutError or ValueError, saying in words why no
+    scheduler answers there: nothing listens, something else does, or it is silent.
+    """
     from distributed import Client
 
-    return Client(address, timeout="10s")
+    from .handshake import check_scheduler
+
+    left = check_scheduler(address, CONNECT_SECONDS if seconds is None else seconds)
+    try:
+        return Client(address, timeout=max(left, 1.0))
+    except (OSError, TimeoutError, ValueError) as err:
+        raise ConnectionError(f"no Dask scheduler reached there ({type(err).__name__}: {err})") from err
+
+
+def close(client_or_cluster) -> None:
+    """Close a client, and the local cluster it was made with (:func:`local_client`); an
+    existing cluster (:func:`remote_client`) is its owner's and keeps running."""
+    if client_or_cluster is None:
+        return
+    cluster = getattr(client_or_cluster, "cluster", None)
+    client_or_cluster.close()
+    if cluster is not None:
+        cluster.close()
+
+
+#: Python's safe path (>= 3.11): neither the script's folder nor, for ``-c``, the current
+#: folder is put on ``sys.path``.
+SAFE_PATH = "PYTHONSAFEPATH"
 
 
 @contextlib.contextmanager
-def _workers_ignore_ctrl_c():
-    """Start processes with SIGINT ignored (a Python started so keeps ignoring it): Ctrl-C
-    at a terminal reaches the whole process group, and the workers would each print a
-    traceback; this process alone is interrupted and closes them (the study resumes)."""
-    try:
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:  # (not the main thread: nothing to change)
-        yield
-        return
+def _environ(values: dict):
+    """``values`` in this process's environment inside the block (processes started there
+    inherit them), the environment as it was after."""
+    before = {key: os.environ.get(key) for key in values}
+    os.environ.update(values)
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for key, value in before.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
+
+
+@contextlib.contextmanager
+def _starting():
+    """While a local cluster starts: processes started with SIGINT ignored, and SIGTERM held.
+
+    Ctrl-C at a terminal reaches the whole process group, and the workers would
+    each print a traceback. A Python started with SIGINT ignored keeps ignoring
+    it: this process alone is interrupted, and closes them (the study resumes).
+    A Ctrl-C in the second or two the cluster takes to start is ignored by this
+    process too: only an ignored SIGINT passes to the processes it starts, and a
+    signal's handling is the whole process's. (Blocking SIGINT meanwhile does not
+    hold it: BLAS's own threads, which do not block it, take it and discard it.)
+
+    SIGTERM meanwhile is held and handled once the cluster is up (then closed
+    whole): handled at once, it would leave a cluster half started, which Dask's
+    own exit handler then fails to close, with a traceback.
+    """
+    try:
+        interrupt = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # (not the main thread: nothing to change)
+        yield
+        return
+    held = []
+    terminate = signal.signal(signal.SIGTERM, lambda signum, frame: held.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, interrupt)
+        signal.signal(signal.SIGTERM, terminate if terminate is not None else signal.SIG_DFL)
+        if held:
+            signal.raise_signal(signal.SIGTERM)  # (handled now, as it would have been)
