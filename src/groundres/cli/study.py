@@ -157,9 +157,9 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     check_study_folder(out_dir, the_case.text, boundary is not None)
     values = dict(zip(grid.keys, grid.values))
     left = grid.size if boundary is not None else study.remaining(the_case, values, failures, out_dir)
-    client = (  # (finished: no cluster to start)
-        None if not left else _started(the_case, grid, left, boundary, scheduler, workers, dashboard, max_hours)
-    )
+    client = None  # (finished: no cluster to start)
+    if left:
+        client = _started(the_case, grid, left, boundary, scheduler, workers, dashboard, max_hours)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as err:
