@@ -7,11 +7,19 @@ from pathlib import Path
 
 import click
 
+from ..errors import printable, shown
+
 DEFAULT_CASE = "hammond-undamped"
 
 
 class UserError(click.ClickException):
+    """A mistake the user can mend: ``error: <message>`` on stderr, exit status 2; the message
+    has its control characters escaped (:func:`groundres.errors.printable`)."""
+
     exit_code = 2
+
+    def __init__(self, message: str):
+        super().__init__(printable(message))
 
     def show(self, file=None):
         click.echo(f"error: {self.message}", err=True)
@@ -52,7 +60,7 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
     """
     if out is not None:
         if not out.strip():
-            fail_user(f"--out {out!r}: empty; give a folder, e.g. --out results")
+            fail_user(f"--out {shown(out)}: empty; give a folder, e.g. --out results")
         return Path(out)
     name = Path(case).stem if case else DEFAULT_CASE
     return Path("groundres-out") / (name if command == "run" else f"{name}-{command}")
@@ -84,10 +92,10 @@ def case_at_speed(case: str | None, speed: float):
     the_case = load(case)
     unit = the_case.sweep.unit
     if not (math.isfinite(speed) and speed > 0):
-        fail_user(f"--speed = {speed!r}: must be a finite number > 0 (in {unit}, the case's unit)")
+        fail_user(f"--speed = {shown(speed)}: must be a finite number > 0 (in {unit}, the case's unit)")
     w = speed * SPEED_UNITS[unit]
     if not (math.isfinite(w) and w > 0):
-        fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
+        fail_user(f"--speed = {shown(speed)} {unit}: outside the floating-point range in rad/s")
     from ..assess.resolution import check_representable
     from ..model.system import System
 
@@ -102,12 +110,12 @@ def load(case: str | None, named: bool = False):
 
     ``named``: the message names the argument (for commands that read several cases).
     """
-    from ..errors import CaseError, shown
+    from ..errors import CaseError
     from ..model.schema import load_case
 
     if case is not None and not case.strip():
         default = "" if named else " (none: the default case)"
-        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name{default}")
+        fail_user(f"CASE {shown(case)}: empty; give a case file or a shipped case name{default}")
     try:
         return load_case(case if case is not None else DEFAULT_CASE)
     except CaseError as err:
@@ -143,10 +151,36 @@ FORMAT = click.option(
 )
 
 
-def make_console():
+def make_console(**options):
+    """The console commands print to (stdout; ``options`` of rich's Console): no highlighting,
+    and no control character of printed text reaches the terminal (:class:`_Printable`),
+    whatever the command printed."""
     from rich.console import Console
 
-    return Console(stderr=False, highlight=False)
+    console = Console(**{"stderr": False, "highlight": False, **options})
+    console.push_render_hook(_Printable())
+    return console
+
+
+class _Printable:
+    """A rich render hook: every printed renderable with control characters in its text
+    escaped (rich's own styles and cursor moves are control segments, kept). Text
+    is escaped before layout where it is made (:func:`plain`); this holds for the rest."""
+
+    def process_renderables(self, renderables):
+        return [_Escaped(r) for r in renderables]
+
+
+class _Escaped:
+    def __init__(self, renderable):
+        self.renderable = renderable
+
+    def __rich_console__(self, console, options):
+        from rich.segment import Segment
+
+        for segment in console.render(self.renderable, options):
+            text, style, control = segment
+            yield segment if control else Segment(printable(text), style, control)
 
 
 def status(console, text):
@@ -154,7 +188,7 @@ def status(console, text):
     if console.is_terminal:
         from rich.text import Text
 
-        return console.status(Text(text))  # plain text: a title's brackets are not markup
+        return console.status(Text(plain_text(text)))  # plain text: a title's brackets are not markup
     return contextlib.nullcontext()
 
 
@@ -208,7 +242,8 @@ class Steps:
         if self._progress is None:
             return
         if stage not in self._tasks:
-            self._tasks[stage] = self._progress.add_task(self.labels.get(stage, stage), total=total)
+            label = plain_text(self.labels.get(stage, stage))  # (a case's name in it, escaped)
+            self._tasks[stage] = self._progress.add_task(label, total=total)
         self._progress.update(self._tasks[stage], completed=done, total=total)
 
     def step(self, stage: str):
@@ -223,12 +258,15 @@ class Steps:
         return block()
 
 
-def plain(text) -> str:
-    """User text (a title, a label) made safe to print through rich: markup shown literally, and no
-    control character but line ends and tabs (an escape sequence in a title must not drive the terminal)."""
-    import unicodedata
+def plain_text(text) -> str:
+    """User text (a title, a path) as printed: every control character but a line end escaped
+    (``\\x1b``: an escape sequence in a title must not drive the terminal)."""
+    return printable(text)
 
+
+def plain(text) -> str:
+    """User text (a title, a label) made safe to print through rich as markup: as
+    :func:`plain_text`, and its markup shown literally."""
     from rich.markup import escape
 
-    text = "".join(ch for ch in str(text) if ch in "\n\t" or unicodedata.category(ch) != "Cc")
-    return escape(text)
+    return escape(plain_text(text))

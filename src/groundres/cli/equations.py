@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import printable
 from .common import load
 
 
@@ -36,7 +37,7 @@ def command(case, latex, form):
     if form == "auto":
         form = "multiblade" if rotor.identical and rotor.n_blades >= 3 else "blade"
     show = sp.latex if latex else (lambda m: sp.pretty(m, wrap_line=False, use_unicode=True))
-    click.echo(f"# {the_case.title}")
+    click.echo(f"# {printable(the_case.title, keep='')}")
     if form == "multiblade":
         names, *mats = multiblade_equations(eq, rotor.n_blades, body.dofs, rotor.flap)
         click.echo(f"# multiblade coordinates q = [{', '.join(names)}];  M q'' + C q' + K q = 0")

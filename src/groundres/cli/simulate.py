@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import shown
 from .common import (
     FORMAT,
     Steps,
@@ -48,7 +49,7 @@ def command(case, speed, duration, initial, out, fmt):
     """
     from ..analysis import simulate
     from ..assess.stability import is_neutral
-    from ..errors import ParameterError, shown
+    from ..errors import ParameterError
     from ..results import files, folders
 
     console = make_console()
@@ -59,7 +60,7 @@ def command(case, speed, duration, initial, out, fmt):
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}
     given = {
-        "speed": f"{speed!r} {unit}",
+        "speed": f"{shown(speed)} {unit}",
         "duration": repr(duration) if duration is not None else "(the default)",
     }
     with Steps(console, labels) as steps:
@@ -124,10 +125,10 @@ def _initial_values(items) -> dict:
         except ValueError:
             number = None
         if not sep or not key.strip() or number is None:
-            fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
+            fail_user(f"--initial {shown(item)}: expected NAME=NUMBER, e.g. x=0.01")
         if not math.isfinite(number):
-            fail_user(f"--initial {item!r}: the value must be a finite number")
+            fail_user(f"--initial {shown(item)}: the value must be a finite number")
         values[key.strip()] = number
     if values and not any(values.values()):
-        fail_user(f"--initial {' '.join(items)!r}: every value is zero, so nothing would move")
+        fail_user(f"--initial {shown(' '.join(items))}: every value is zero, so nothing would move")
     return values
