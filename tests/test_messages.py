@@ -55,6 +55,44 @@ def refused(result, *words):
     return result.output
 
 
+# -- 4: --method named as given ---------------------------------------------------------------------
+
+
+def test_eigen_from_the_command_line_names_the_option(tmp_path):
+    """Was "[sweep] method = 'eigen'" though the case asks for auto."""
+    message = refused(
+        run("run", "hammond-1974-one-damper", "--method", "eigen", "--out", tmp_path / "o"),
+        "--method eigen: this case has periodic coefficients in every frame",
+        "use 'floquet' or 'auto'",
+    )
+    assert "[sweep]" not in message
+    text = (
+        (CASES / "hammond-1974-one-damper.toml")
+        .read_text()
+        .replace('unit = "rpm"', 'unit = "rpm"\nmethod = "eigen"')
+    )
+    message = refused(run("run", write(tmp_path, text), "--out", tmp_path / "o"), "[sweep] method = 'eigen':")
+    assert "--method" not in message
+    refused(
+        run(
+            "compare", "hammond-1974", "hammond-1974-one-damper", "--method", "eigen", "--out", tmp_path / "o"
+        ),
+        "entry 2 (hammond-1974-one-damper by method 'eigen'): --method eigen: ",
+    )
+
+
+def test_method_errors_keep_their_parts_through_pickling():
+    """(A study's points are analysed in other processes.)"""
+    import pickle
+
+    from groundres.errors import MethodError
+
+    err = MethodError("method", "eigen", "no eigenvalues", "entry 2")
+    back = pickle.loads(pickle.dumps(err))
+    assert (back.key, back.value, back.entry, str(back)) == ("method", "eigen", "entry 2", str(err))
+    assert back.named("--method eigen") == "entry 2: --method eigen: no eigenvalues"
+
+
 # -- 6: values shortened ----------------------------------------------------------------------------
 
 LONG = "r" * 20000

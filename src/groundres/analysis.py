@@ -22,7 +22,7 @@ import numpy as np
 
 from .assess import damping_search, margins, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
-from .errors import MethodError, ParameterError
+from .errors import MethodError, ParameterError, brief, shown
 from .methods import Method, choose_method, time_invariant
 from .model.params import Case
 from .model.schema import load_case
@@ -300,8 +300,9 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
                 try:
                     same = analyze(case, frame=frame, method=method, progress=report)
                 except MethodError as err:  # (which entry could not be analysed so)
-                    asked = f" by method {method!r}" if method else ""
-                    raise MethodError(f"entry {number} ({case_name(case)}{asked}): {err}") from None
+                    asked = f" by method {shown(method)}" if method else ""
+                    entry = f"entry {number} ({brief(case_name(case))}{asked})"
+                    raise MethodError(err.key, err.value, err.allowed, entry) from None
                 done.append((case, method, same))
             plan.append((k, method, same))
     details = entry_details([r for _, _, r in plan])

@@ -96,7 +96,30 @@ class StudyError(CaseError):
 
 
 class MethodError(InputError):
-    """The method asked for cannot analyse this case."""
+    """The method asked for cannot analyse this case.
+
+    Attributes
+    ----------
+    key : str
+        Where the method was asked for: "method" (an argument) or "[sweep] method" (the case's own).
+    value : str
+        The method asked for.
+    allowed : str
+        Why it cannot, and what is allowed.
+    entry : str
+        Which analysis of several it was (a comparison's entry), or "".
+    """
+
+    def __init__(self, key: str, value, allowed: str, entry: str = ""):
+        self.key, self.value, self.allowed, self.entry = key, value, allowed, entry
+        super().__init__(self.named(f"{key} = {shown(value)}"))
+
+    def __reduce__(self):
+        return (type(self), (self.key, self.value, self.allowed, self.entry))
+
+    def named(self, asked: str) -> str:
+        """The message, the method named as ``asked`` (e.g. "--method eigen" on the command line)."""
+        return f"{self.entry}: {asked}: {self.allowed}" if self.entry else f"{asked}: {self.allowed}"
 
 
 class ModelRangeError(InputError):

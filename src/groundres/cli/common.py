@@ -77,6 +77,20 @@ def check_out(path: Path) -> None:
         fail_user(str(err))
 
 
+@contextlib.contextmanager
+def method_named():
+    """A method the block's analysis cannot use named as the command line gave it: ``--method
+    eigen`` where the option asked for it, the case's ``[sweep] method`` otherwise."""
+    from ..errors import MethodError
+
+    try:
+        yield
+    except MethodError as err:
+        if err.key != "method":  # (the case's own: its message names the key)
+            raise
+        fail_user(err.named(f"--method {err.value}"))
+
+
 def invocation() -> dict:
     """The command line and start time of this run (for provenance.json)."""
     meta = click.get_current_context().meta

@@ -17,6 +17,7 @@ from .common import (
     invocation,
     load,
     make_console,
+    method_named,
     out_option,
     output_dir,
     plain,
@@ -134,7 +135,8 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     from ..results import files, folders
 
     with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
-        result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        with method_named():
+            result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
         with steps.step("page"), folders.output_folder(out_dir) as folder:
