@@ -14,7 +14,7 @@ from click.testing import CliRunner
 import groundres
 from conftest import HAMMOND_TOML
 from groundres.cli import main
-from groundres.errors import CaseError, shown
+from groundres.errors import CaseError, ParameterError, shown
 
 CASES = Path(groundres.__file__).parent / "cases"
 #: The light helicopter on skids (a rigid body on four legs), at 20 speeds.
@@ -53,6 +53,87 @@ def refused(result, *words):
     for word in words:
         assert word in result.output, (word, result.output)
     return result.output
+
+
+# -- 1, 2, 5: a rigid body's keys named as the file writes them ------------------------------------------
+
+
+def test_a_gear_leg_far_stiffer_than_the_others_is_named_with_its_number_and_key(tmp_path):
+    """Was "[body] dofs: the gear legs hold no stiffness against 'y'": the legs do hold y, but
+    leg 1's 1e20 N/m leaves the others' 1e5 N/m below round-off of the stiffness matrix."""
+    text = leg(SKIDS, 1, "stiffness_x = 1.0e5", "stiffness_x = 1e20")
+    message = refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"),
+        "[[body.gear]] 1: stiffness_x = 1e+20",
+        "so large against the legs' other stiffness values",
+        "cannot be resolved in double precision",
+        "here up to about",
+    )
+    assert "dofs" not in message
+    # the same leg named by its number wherever it stands (here the third), and a value so
+    # small that the others drown it
+    text = leg(SKIDS, 3, "stiffness_z = 2.5e5", "stiffness_z = 1e30")
+    refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"), "[[body.gear]] 3: stiffness_z = 1e+30"
+    )
+    text = SKIDS.replace("stiffness_y = 0.5e5", "stiffness_y = 1e-12")
+    refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"),
+        "[[body.gear]] 1: stiffness_y = 1e-12",
+        "so small",
+        "at least about",
+    )
+
+
+def test_legs_that_hold_no_stiffness_in_a_direction_still_name_dofs(tmp_path):
+    text = SKIDS.replace("stiffness_y = 0.5e5", "stiffness_y = 0.0")
+    refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"), "[body] dofs", "no stiffness against 'y'"
+    )
+
+
+def test_the_library_names_the_leg_of_a_body(tmp_path):
+    from groundres.model.schema import load_case
+
+    body = load_case(write(tmp_path, SKIDS)).body
+    legs = list(body.gear)
+    legs[1] = type(legs[1])(**{**legs[1].__dict__, "stiffness_x": 1e20})
+    with pytest.raises(ParameterError) as err:
+        type(body)(**{**body.__dict__, "gear": tuple(legs)})
+    assert err.value.key == "gear[2].stiffness_x" and err.value.value == 1e20
+
+
+def test_a_leg_damper_beyond_resolution_is_named_with_its_leg_and_key(tmp_path):
+    """Was "[[body.gear]] damping (in roll) = 1.21e+300 N m s/rad", a sum no file holds."""
+    text = leg(SKIDS, 1, "damping_z = 2500.0", "damping_z = 1e300")
+    message = refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"),
+        "[[body.gear]] 1: damping_z = 1e+300 N s/m",
+        "allowed here: leg 1's damping_z up to about",
+    )
+    assert "(in roll) =" not in message
+    text = leg(SKIDS, 4, "stiffness_y = 0.5e5", "stiffness_y = 1e40")
+    refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"), "[[body.gear]] 4: stiffness_y = 1e+40"
+    )
+
+
+@pytest.mark.parametrize("mass", ["1e300", "1e20"])
+def test_a_rigid_body_mass_that_makes_the_mass_matrix_singular_is_named(tmp_path, mass):
+    """Was "the mass matrix of this case is singular to working precision", no key nor value."""
+    text = SKIDS.replace("mass = 1100.0", f"mass = {mass}")
+    refused(
+        run("run", write(tmp_path, text), "--out", tmp_path / "o"),
+        f"[body] mass = {float(mass):g} kg",
+        "inertia_xx = 700, inertia_yy = 2500",
+        "allowed here: mass up to about",
+    )
+
+
+def test_a_large_rigid_mass_the_model_resolves_runs(tmp_path):
+    text = SKIDS.replace("mass = 1100.0", "mass = 1e300").replace("centre_z = 1.0", "centre_z = 0.0")
+    result = run("run", write(tmp_path, text), "--out", tmp_path / "o")
+    assert result.exit_code == 0, result.output
 
 
 # -- 4: --method named as given ---------------------------------------------------------------------

@@ -258,7 +258,12 @@ def _body(data: dict) -> Body:
         _check_table("body.gear", entry)
         legs.append(_build(f"[[body.gear]] {i}: ", Leg, **{k: float(v) for k, v in entry.items()}))
     values = {k: float(v) for k, v in data.items() if k not in ("dofs", "gear")}
-    return _build("[body] ", Body, dofs=tuple(dofs), gear=tuple(legs), **values)
+    try:
+        return Body(dofs=tuple(dofs), gear=tuple(legs), **values)
+    except ParameterError as err:  # (a leg's key, "gear[2].stiffness_x", as the file writes it)
+        leg, _, key = err.key.partition("].")
+        where = f"[[body.gear]] {leg.removeprefix('gear[')}: {key}" if key else f"[body] {err.key}"
+        raise CaseError(f"{where} = {shown(err.value)}: {err.allowed}") from None
 
 
 #: The [sweep] keys that hold speeds (in the case's unit).
