@@ -136,6 +136,70 @@ def test_a_large_rigid_mass_the_model_resolves_runs(tmp_path):
     assert result.exit_code == 0, result.output
 
 
+# -- 3: simulate --initial ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value", ["1e308", "1e300", "-1e151"])
+def test_an_initial_displacement_beyond_the_bound_names_initial(tmp_path, value):
+    """1e308 was blamed on the speed ("choose a lower speed") after an overflow warning."""
+    message = refused(
+        run(
+            "simulate",
+            write(tmp_path, GOOD),
+            "--speed",
+            "20",
+            "--initial",
+            f"x={value}",
+            "--out",
+            tmp_path / "o",
+        ),
+        f"--initial x={float(value)!r}",
+        "|value| <= 1e+150",
+        "linear",
+    )
+    assert "--speed" not in message and "lower speed" not in message
+
+
+def test_an_initial_rate_beyond_the_bound_names_it(tmp_path):
+    refused(
+        run(
+            "simulate",
+            write(tmp_path, GOOD),
+            "--speed",
+            "20",
+            "--initial",
+            "lag1_rate=1e200",
+            "--out",
+            tmp_path / "o",
+        ),
+        "--initial lag1_rate=1e+200",
+    )
+
+
+def test_a_run_whose_growth_would_overflow_names_the_time(tmp_path):
+    """x = 1e140 growing at 0.355 1/s for 100 s overflowed (RuntimeWarnings, then exit 1)."""
+    args = ("simulate", write(tmp_path, SKIDS), "--speed", "150", "--initial", "x=1e140", "--time", "100")
+    refused(run(*args, "--out", tmp_path / "o"), "--time = 100.0", "e^35.", "at most 64.8", "1e+150")
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_growth_bound():
+    from groundres.solve.simulate import LARGEST_MOTION, MIN_REVOLUTIONS, fit_growth
+
+    speed = 15.7  # [rad/s]: a revolution of 0.4 s
+    assert fit_growth(100.0, 0.0, {"x": 1e140}, True, speed) == 100.0  # neutral: no bound
+    assert fit_growth(100.0, -1.0, {"x": 1e150}, True, speed) == 100.0  # decaying
+    longest = fit_growth(100.0, 0.5, {"x": 1e140, "y": 1.0}, False, speed)  # the default, shortened
+    assert longest == pytest.approx(__import__("math").log(LARGEST_MOTION / 1e140) / 0.5)
+    with pytest.raises(ParameterError) as err:
+        fit_growth(100.0, 0.5, {"x": 1e140}, True, speed)
+    assert err.value.key == "duration" and "at most 46.05 s" in err.value.allowed
+    with pytest.raises(ParameterError) as err:  # too large even for the shortest run
+        fit_growth(100.0, 50.0, {"x": 1.0, "lag1": -1e100}, False, speed)
+    assert err.value.key == "initial" and err.value.value == {"lag1": -1e100}
+    assert f"{MIN_REVOLUTIONS} revolutions" in err.value.allowed
+
+
 # -- 4: --method named as given ---------------------------------------------------------------------
 
 

@@ -33,7 +33,14 @@ from .results.comparison import Comparison, Entry, case_name, entry_details
 from .results.simulation import Simulation
 from .results.sweep import SweepResult
 from .solve.floquet import cost
-from .solve.simulate import default_initial, initial_state, integrate, run_duration, settling_time
+from .solve.simulate import (
+    default_initial,
+    fit_growth,
+    initial_state,
+    integrate,
+    run_duration,
+    settling_time,
+)
 from .solve.solvers import solver_for
 
 
@@ -242,6 +249,11 @@ def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=
     roots = np.asarray(solver_for(case, method).roots(speed)).ravel()
     if given is None:  # (longer where the least stable root stands out slowly)
         duration = run_duration(system, speed, None, settling_time(roots), speed_name=name)
+    # (no longer than the motion's growth leaves inside double precision; a neutral root's
+    # round-off is no growth)
+    growth = float(roots.real.max())
+    growth = 0.0 if stability.is_neutral(growth, speed) else growth
+    duration = fit_growth(duration, growth, values, given is not None, speed, name)
     history = integrate(system, speed, duration, (q0, v0), progress=progress, speed_text=name)
     return Simulation(case, history, values, method, float(roots.real.max()))
 
