@@ -290,6 +290,32 @@ def test_shown_and_printable():
     )
 
 
+# -- 7: equations in multiblade form of dissimilar blades -----------------------------------------
+
+
+def test_multiblade_equations_of_dissimilar_blades_say_what_they_show():
+    """They were printed as if the blades were identical."""
+    result = run("equations", "hammond-1974-one-damper", "--form", "multiblade")
+    assert result.exit_code == 0, result.output
+    head = result.output.split("mass matrix")[0]
+    for words in (
+        "NOTE: this rotor does not look the same from every blade",
+        "blade 1's lag_damping is 0, the others' 4067.5",
+        "its multiblade equations are periodic",
+        "those of identical",
+        "--form blade prints each blade's equations exactly",
+        "by Floquet theory",
+    ):
+        assert words in head, (words, head)
+    rods = run("equations", "hammond-interblade-one-failed", "--form", "multiblade").output
+    assert "damper rods do not repeat from blade to blade" in rods
+    isotropic = run("equations", "hammond-one-damper-isotropic", "--form", "multiblade").output
+    assert "in rotating axes (its body is isotropic)" in isotropic
+    # no note where the form is exact, nor for the blade form
+    assert "NOTE" not in run("equations", "hammond-1974", "--form", "multiblade").output
+    assert "NOTE" not in run("equations", "hammond-1974-one-damper").output
+
+
 # -- 10: control characters never reach the terminal ------------------------------------------------
 
 
