@@ -316,6 +316,45 @@ def test_multiblade_equations_of_dissimilar_blades_say_what_they_show():
     assert "NOTE" not in run("equations", "hammond-1974-one-damper").output
 
 
+# -- 8: characters the font cannot draw -------------------------------------------------------------
+
+
+def test_a_title_character_no_font_draws_is_replaced():
+    from groundres.plotting.titles import REPLACEMENT, figure_title, literal
+
+    assert figure_title("Rotor \U0001f681 ü é 中") == f"Rotor {REPLACEMENT} ü é {REPLACEMENT}"
+    assert literal("heli\U0001f681copter $1") == f"heli{REPLACEMENT}copter \\$1"
+    assert figure_title("Hammond (1974) rotor") == "Hammond (1974) rotor"
+
+
+EMOJI = GOOD.replace('title = "test"', 'title = "Rotor \U0001f681 on its hub"').replace(
+    "points = 60", "points = 30"
+)
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["run"],
+        ["simulate", "--speed", "20"],
+        ["phasors", "--speed", "20"],
+        ["report"],
+        ["compare", "{other}"],
+        ["run", "--format", "pdf"],
+        ["run", "--format", "svg"],
+    ],
+)
+def test_an_emoji_in_a_title_draws_without_a_warning(tmp_path, command):
+    """matplotlib warned "Glyph 128641 (HELICOPTER) missing from font(s) DejaVu Sans" (an error here,
+    where warnings are errors: exit 1)."""
+    case = write(tmp_path, EMOJI)
+    other = write(tmp_path, EMOJI.replace("lag_damping = 4067.5", "lag_damping = 3000.0"), "other.toml")
+    args = [a.replace("{other}", str(other)) for a in command]
+    result = run(args[0], case, *args[1:], "--out", tmp_path / "o")
+    assert result.exit_code == 0, result.output
+    assert "Warning" not in result.output
+
+
 # -- 10: control characters never reach the terminal ------------------------------------------------
 
 
