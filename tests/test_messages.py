@@ -6,6 +6,10 @@ rotor whose blades differ without saying so, or put warnings, matplotlib's notic
 title's escape sequences on the terminal.
 """
 
+import os
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -353,6 +357,79 @@ def test_an_emoji_in_a_title_draws_without_a_warning(tmp_path, command):
     result = run(args[0], case, *args[1:], "--out", tmp_path / "o")
     assert result.exit_code == 0, result.output
     assert "Warning" not in result.output
+
+
+# -- 9, 8: a HOME that cannot be written, in a process of its own -----------------------------------
+
+
+def _env(**extra):
+    env = {
+        k: v for k, v in os.environ.items() if k not in ("MPLCONFIGDIR", "XDG_CACHE_HOME", "XDG_CONFIG_HOME")
+    }
+    env["PYTHONPATH"] = os.pathsep.join(
+        filter(None, [str(Path(groundres.__file__).parents[1]), env.get("PYTHONPATH")])
+    )
+    return {**env, **extra}
+
+
+def test_nothing_but_the_results_where_home_cannot_be_written(tmp_path):
+    """matplotlib said "Matplotlib created a temporary cache directory ..." on every command
+    that draws, and warned of the missing glyph. /dev/null as HOME is not writable even by
+    root. The case is periodic: the numba cache (off without a safe folder) says nothing either."""
+    text = (CASES / "hammond-1974-one-damper.toml").read_text().replace("points = 400", "points = 8")
+    text = text.replace('title = "Hammond', 'title = "\U0001f681 Hammond')
+    case = write(tmp_path, text)
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-W",
+            "default",
+            "-m",
+            "groundres.cli",
+            "run",
+            str(case),
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        capture_output=True,
+        text=True,
+        env=_env(HOME="/dev/null"),
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == "", result.stderr
+    assert (tmp_path / "o" / "coleman.png").exists()
+
+
+def test_matplotlib_gets_a_private_folder_only_where_its_own_cannot_be_written():
+    code = (
+        "import os, stat; from groundres.cli.common import matplotlib_folder; matplotlib_folder(); "
+        "p = os.environ.get('MPLCONFIGDIR'); "
+        "print(p, p and oct(stat.S_IMODE(os.stat(p).st_mode)), p and os.stat(p).st_uid == os.getuid())"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=_env(HOME="/dev/null"), timeout=60
+    )
+    assert out.stderr == ""
+    folder, mode, own = out.stdout.split()
+    assert mode == "0o700" and own == "True"  # (no other account can put a matplotlibrc there)
+    assert Path(folder).parent == Path(tempfile.gettempdir()) and "groundres-matplotlib-" in folder
+    assert not Path(folder).exists()  # (removed at exit)
+    # a writable HOME: matplotlib's own folder, untouched
+    with tempfile.TemporaryDirectory() as home:
+        out = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, env=_env(HOME=home), timeout=60
+        )
+        assert out.stdout.split()[0] == "None"
+
+
+def test_the_numba_cache_is_off_and_silent_where_home_cannot_be_written(monkeypatch, capfd):
+    from groundres.solve.floquet.compiled import cache_folder
+
+    monkeypatch.setenv("HOME", "/dev/null")
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+    assert cache_folder() is None
+    assert capfd.readouterr() == ("", "")
 
 
 # -- 10: control characters never reach the terminal ------------------------------------------------

@@ -16,7 +16,7 @@ import click
 
 from ..errors import printable
 from . import cases, compare, equations, gallery, phasors, report, run, simulate, study
-from .common import Terminated, UserError, interrupts
+from .common import Terminated, UserError, interrupts, matplotlib_folder
 
 
 class _Group(click.Group):
@@ -81,6 +81,7 @@ def main():
     Run `groundres run` for the built-in default case, `groundres cases` for the
     shipped cases, `groundres run CASE.toml --out DIR` for your own.
     """
+    matplotlib_folder()  # (before any command imports matplotlib)
 
 
 for _module in (run, simulate, phasors, study, compare, report, gallery, cases, equations):

@@ -53,6 +53,53 @@ def interrupts():
         signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
+def matplotlib_folder() -> None:
+    """Give matplotlib a private configuration and cache folder where its own is not writable
+    (a read-only or missing HOME), before it is imported: it would otherwise make a
+    temporary one itself and say so on every run. The folder is made by
+    :func:`tempfile.mkdtemp` (mode 0700: no other account can put a matplotlibrc or a
+    font cache in it) and removed at exit; MPLCONFIGDIR, if set, is left as it is.
+    """
+    import os
+    import sys
+
+    if os.environ.get("MPLCONFIGDIR") or "matplotlib" in sys.modules or sys.platform == "win32":
+        return
+    try:
+        home = Path.home()
+    except RuntimeError:  # (no HOME and no account entry)
+        home = None
+    if sys.platform.startswith(("linux", "freebsd")):
+        bases = [
+            os.environ.get("XDG_CONFIG_HOME") or (home and home / ".config"),
+            os.environ.get("XDG_CACHE_HOME") or (home and home / ".cache"),
+        ]
+        folders = [base and Path(base) / "matplotlib" for base in bases]
+    else:
+        folders = [home and home / ".matplotlib"]
+    if all(folder and _writable_folder(folder) for folder in folders):
+        return
+    import atexit
+    import shutil
+    import tempfile
+
+    private = tempfile.mkdtemp(prefix="groundres-matplotlib-")
+    atexit.register(shutil.rmtree, private, ignore_errors=True)
+    os.environ["MPLCONFIGDIR"] = private
+
+
+def _writable_folder(folder: Path) -> bool:
+    """Whether ``folder`` is, or can be made, a writable folder (as matplotlib tries its own)."""
+    import os
+
+    try:
+        folder = folder.resolve()
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False
+    return folder.is_dir() and os.access(folder, os.W_OK)
+
+
 def output_dir(case: str | None, out, command: str = "run") -> Path:
     """--out, or groundres-out/<case name> for run and groundres-out/<case name>-<command> otherwise.
 
