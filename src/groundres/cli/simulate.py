@@ -34,7 +34,8 @@ from .common import (
     "--initial",
     multiple=True,
     metavar="NAME=VALUE",
-    help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
+    help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable; "
+    "|VALUE| <= 1e150 (the equations are linear: the size only scales the motion) "
     "[default: every body dof present = 0.01 and lag1 = 0.01].",
 )
 @out_option("groundres-out/<case name>-simulate")
