@@ -24,7 +24,7 @@ import numpy as np
 
 from .assess import damping_search, margins, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
-from .errors import MethodError, ParameterError
+from .errors import MethodError, ParameterError, brief, shown
 from .methods import Method, choose_method, time_invariant
 from .model.params import Case
 from .model.schema import load_case
@@ -35,7 +35,14 @@ from .results.comparison import Comparison, Entry, case_name, entry_details
 from .results.simulation import Simulation
 from .results.sweep import SweepResult
 from .solve.floquet import cost
-from .solve.simulate import default_initial, initial_state, integrate, run_duration, settling_time
+from .solve.simulate import (
+    default_initial,
+    fit_growth,
+    initial_state,
+    integrate,
+    run_duration,
+    settling_time,
+)
 from .solve.solvers import solver_for
 
 
@@ -292,6 +299,11 @@ def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=
     roots = np.asarray(solver_for(case, method).roots(speed)).ravel()
     if given is None:  # (longer where the least stable root stands out slowly)
         duration = run_duration(system, speed, None, settling_time(roots), speed_name=name)
+    # (no longer than the motion's growth leaves inside double precision; a neutral root's
+    # round-off is no growth)
+    growth = float(roots.real.max())
+    growth = 0.0 if stability.is_neutral(growth, speed) else growth
+    duration = fit_growth(duration, growth, values, given is not None, speed, name)
     history = integrate(system, speed, duration, (q0, v0), progress=progress, speed_text=name)
     return Simulation(case, history, values, method, float(roots.real.max()))
 
@@ -350,8 +362,9 @@ def compare(cases, methods=None, frame: str | None = None, progress=None) -> Com
                 try:
                     same = analyze(case, frame=frame, method=method, progress=report)
                 except MethodError as err:  # (which entry could not be analysed so)
-                    asked = f" by method {method!r}" if method else ""
-                    raise MethodError(f"entry {number} ({case_name(case)}{asked}): {err}") from None
+                    asked = f" by method {shown(method)}" if method else ""
+                    entry = f"entry {number} ({brief(case_name(case))}{asked})"
+                    raise MethodError(err.key, err.value, err.allowed, entry) from None
                 done.append((case, method, same))
             plan.append((k, method, same))
     details = entry_details([r for _, _, r in plan])

@@ -17,6 +17,23 @@ failure of groundres itself (exit status 1).
 from __future__ import annotations
 
 import math
+import unicodedata
+
+#: Longest ``repr`` of a value a message shows whole; a longer one keeps its start and end.
+SHOWN_LENGTH = 60
+
+
+def printable(text, keep: str = "\n") -> str:
+    """``text`` with every control character (C0, DEL and C1) but those in ``keep`` written
+    as its escape (``\\x1b``), so that no user text can drive a terminal (a title's
+    ``ESC ] 0 ; ... BEL`` would set its window title, ``ESC [ 2 J`` clear it)."""
+    text = str(text)
+    if all(ch in keep or unicodedata.category(ch) != "Cc" for ch in text):
+        return text
+    return "".join(
+        ch if ch in keep or unicodedata.category(ch) != "Cc" else ch.encode("unicode_escape").decode()
+        for ch in text
+    )
 
 
 def shown(value) -> str:
@@ -29,12 +46,23 @@ def shown(value) -> str:
             text = str(value)
             return f"{text[:8]}...{text[-4:]} ({len(text.lstrip('-'))} digits)"
         return repr(value)
-    text = repr(value)
-    return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
+    return brief(printable(repr(value), keep=""))  # (repr escapes a string's; an object's may not)
+
+
+def brief(text: str) -> str:
+    """``text`` (a name, a title) whole up to :data:`SHOWN_LENGTH` characters, else its start
+    and end around an ellipsis."""
+    return text if len(text) <= SHOWN_LENGTH else f"{text[:40]}...{text[-12:]}"
 
 
 class InputError(ValueError):
-    """An input groundres cannot use; the message says which, and what is allowed."""
+    """An input groundres cannot use; the message says which, and what is allowed.
+
+    Its message is :func:`printable`: a path or a title quoted in it cannot drive a terminal.
+    """
+
+    def __init__(self, *args):
+        super().__init__(*(printable(a) if isinstance(a, str) else a for a in args))
 
 
 class CaseError(InputError):
@@ -68,7 +96,30 @@ class StudyError(CaseError):
 
 
 class MethodError(InputError):
-    """The method asked for cannot analyse this case."""
+    """The method asked for cannot analyse this case.
+
+    Attributes
+    ----------
+    key : str
+        Where the method was asked for: "method" (an argument) or "[sweep] method" (the case's own).
+    value : str
+        The method asked for.
+    allowed : str
+        Why it cannot, and what is allowed.
+    entry : str
+        Which analysis of several it was (a comparison's entry), or "".
+    """
+
+    def __init__(self, key: str, value, allowed: str, entry: str = ""):
+        self.key, self.value, self.allowed, self.entry = key, value, allowed, entry
+        super().__init__(self.named(f"{key} = {shown(value)}"))
+
+    def __reduce__(self):
+        return (type(self), (self.key, self.value, self.allowed, self.entry))
+
+    def named(self, asked: str) -> str:
+        """The message, the method named as ``asked`` (e.g. "--method eigen" on the command line)."""
+        return f"{self.entry}: {asked}: {self.allowed}" if self.entry else f"{asked}: {self.allowed}"
 
 
 class ModelRangeError(InputError):

@@ -70,18 +70,21 @@ def choose_method(case, option: str | None = None) -> Method:
     Raises
     ------
     MethodError
-        For "eigen" on a case with periodic coefficients in every frame.
+        For "eigen" on a case with periodic coefficients in every frame; its ``key`` is
+        "method" for ``option`` and "[sweep] method" for the case's own.
     """
+    key = "method" if option else "[sweep] method"  # (as an argument, or the case's own)
     option = option or case.sweep.method
     if option not in OPTIONS:
-        raise MethodError(f"method {option!r}: must be one of {list(OPTIONS)}")
+        raise MethodError(key, option, f"must be one of {list(OPTIONS)}")
     if option == "floquet":
         return Method.FLOQUET
     form = time_invariant(case)
     if option == "eigen" and form is None:
         raise MethodError(
-            "[sweep] method = 'eigen': this case has periodic coefficients in every frame "
-            "(dissimilar blades or N = 2 on an anisotropic body), so it has no eigenvalues; "
-            "use 'floquet' or 'auto'"
+            key,
+            option,
+            "this case has periodic coefficients in every frame (dissimilar blades or N = 2 on an "
+            "anisotropic body), so it has no eigenvalues; use 'floquet' or 'auto'",
         )
     return form or Method.FLOQUET

@@ -22,12 +22,12 @@ that the mass matrix has a unit diagonal.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import ModelRangeError
-from ..model.body import TRANSLATIONS, Body
+from ..model.body import BODY_DOFS, TRANSLATIONS, Body
 from ..model.params import Rotor
 from ..model.schema import key_text
 from ..model.units import speed_text
@@ -59,11 +59,22 @@ class RateSource:
     what: str
     at_top: bool  # the rate grows with rotor speed (given at the stop speed)
     given_rate: float | None = None  # the rate where the formula above would overflow
+    leg: int = 0  # the [[body.gear]] leg it belongs to (1-based), if any
 
     @property
     def key(self) -> str:
-        """The parameter as a message names it (:func:`groundres.model.schema.key_text`)."""
+        """The parameter as a message names it (:func:`groundres.model.schema.key_text`; a
+        leg's as the case reader does, ``[[body.gear]] 2: damping_z``)."""
+        if self.leg:
+            return f"{key_text(self.table)} {self.leg}: {self.name}"
         return key_text(self.table, self.name) + (f" ({self.detail})" if self.detail else "")
+
+    @property
+    def short(self) -> str:
+        """The parameter named within its table: ``lag_damping (blade 2)``, ``leg 1's damping_z``."""
+        if self.leg:
+            return f"leg {self.leg}'s {self.name}"
+        return self.name + (f" ({self.detail})" if self.detail else "")
 
     @property
     def rate(self) -> float:
@@ -162,16 +173,42 @@ def rate_sources(rotor: Rotor, body: Body, top_speed: float, speed_unit=("rad/s"
         mass = mats[0, i, i] + added
         unit = ("N s/m", "N/m") if d in TRANSLATIONS else ("N m s/rad", "N m/rad")
         what = f"with the rotor's share, M = {mass:.5g}"
-        if body.form == "rigid":  # (the legs' springs and dampers, summed in that direction)
-            keys = [("body.gear", kind, f"in {d}") for kind in ("damping", "stiffness")]
-        else:
-            keys = [("body", f"{kind}_{d}", "") for kind in ("damping", "stiffness")]
+        if body.form == "rigid":  # (each leg's springs and dampers, by what they add in that direction)
+            out += _leg_sources(body, i, d, mass, what)
+            continue
+        keys = [("body", f"{kind}_{d}", "") for kind in ("damping", "stiffness")]
         out.append(RateSource(*keys[0], mats[1, i, i], unit[0], 1, mass, f"C/M {what}", False))
         out.append(RateSource(*keys[1], mats[2, i, i], unit[1], 2, mass, f"sqrt(K/M) {what}", False))
     name, factor = speed_unit
     out.append(
         RateSource("sweep", "stop", "", top_speed / factor, name, 1, 1.0 / factor, "the rotor speed", True)
     )
+    return out
+
+
+def _leg_sources(body: Body, i: int, dof: str, mass: float, what: str) -> list[RateSource]:
+    """The rates each leg's springs and dampers set in the body's ``i``-th coordinate ``dof``
+    (inertia ``mass`` there), from what each adds to its diagonal (lever^2 g2 times the value)."""
+    out = []
+    full = BODY_DOFS.index(dof)
+    translation = dof in TRANSLATIONS
+    for n, leg in enumerate(body.gear, start=1):
+        for a in "xyz":
+            g2 = float(leg.along(**{a: 1.0})[full, full])  # [1] or [m^2]
+            if not g2 > 0:  # (a spring that does not move this coordinate)
+                continue
+            lever = "" if translation else f", lever^2 {g2:.4g} m^2"
+            for kind, unit, power, rate in (
+                ("damping", "N s/m", 1, "C/M"),
+                ("stiffness", "N/m", 2, "sqrt(K/M)"),
+            ):
+                value = getattr(leg, f"{kind}_{a}")
+                how = f"{rate} in {dof} {what}{lever}"
+                out.append(
+                    RateSource(
+                        "body.gear", f"{kind}_{a}", "", value, unit, power, mass / g2, how, False, leg=n
+                    )
+                )
     return out
 
 
@@ -216,6 +253,53 @@ def check_representable(system, speed: float, key: str, speed_unit=("rad/s", 1.0
     )
 
 
+#: A mass matrix scaled to a unit diagonal whose smallest eigenvalue is below this is singular.
+SINGULAR_MASS = 1e-12
+
+
+def _unit_diagonal(m: np.ndarray) -> np.ndarray:
+    """Mass matrices (..., n, n) with coordinates scaled to a unit diagonal."""
+    d = np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
+    return m / (d[..., :, None] * d[..., None, :])
+
+
+def _mass_singular(rotor: Rotor, body: Body, speeds) -> bool:
+    """Whether the case's mass matrix is singular to working precision (or overflows) at ``speeds``."""
+    from ..model.system import System
+
+    mats = _finite_matrices(System.in_mass_unit(rotor, body), speeds)
+    return mats is None or np.linalg.eigvalsh(_unit_diagonal(mats[0])).min() <= SINGULAR_MASS
+
+
+def check_mass(rotor: Rotor, body: Body, speeds) -> None:
+    """Refuse a rigid body whose ``mass`` is so large against its moments of inertia that the
+    case's mass matrix is singular to working precision, naming the mass, the inertias and the
+    largest mass that would do (found by bisection on its logarithm)."""
+    speeds = np.asarray(speeds, dtype=float)
+    if body.form != "rigid" or not _mass_singular(rotor, body, speeds):
+        return
+
+    def fits(exponent: float) -> bool:
+        return not _mass_singular(rotor, replace(body, mass=10.0**exponent), speeds)
+
+    low, high = -300.0, math.log10(body.mass)  # (a mass of 1e-300 kg: the rotor's inertia alone)
+    if not fits(low):  # (the mass is not what makes it singular: fastest_rate says what may)
+        return
+    while high - low > 0.5:  # (the largest mass that fits, to half a decade)
+        middle = (low + high) / 2
+        low, high = (middle, high) if fits(middle) else (low, middle)
+    names = {"roll": "inertia_xx", "pitch": "inertia_yy", "yaw": "inertia_zz"}
+    inertias = ", ".join(f"{k} = {getattr(body, k):.4g}" for d, k in names.items() if d in body.dofs)
+    centre = math.hypot(body.centre_x, body.centre_y, body.centre_z)
+    raise ModelRangeError(
+        f"{key_text('body', 'mass')} = {body.mass:.6g} kg: so large against the body's moments of inertia "
+        f"({inertias} kg m^2, about its centre of mass {centre:.4g} m from the pivot) that the mass matrix "
+        "of this case is singular in double precision (the body's rotations about the pivot cannot be "
+        f"told from its translations); allowed here: mass up to about {10.0**low:.1g} kg, or larger moments "
+        "of inertia"
+    )
+
+
 def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
     """Largest ``|root|`` [1/s] of the equations frozen at four azimuths, at each speed (n_s,).
 
@@ -236,9 +320,8 @@ def fastest_rate(system, speeds, speed_unit=("rad/s", 1.0)) -> np.ndarray:
             "and the ratios of like parameters within about 1e100"
         )
     m, c, k = mats
-    d = np.sqrt(np.abs(np.diagonal(m, axis1=-2, axis2=-1)))
-    unit_mass = m / (d[..., :, None] * d[..., None, :])
-    if np.linalg.eigvalsh(unit_mass).min() <= 1e-12:
+    unit_mass = _unit_diagonal(m)
+    if np.linalg.eigvalsh(unit_mass).min() <= SINGULAR_MASS:
         raise ModelRangeError(
             "the mass matrix of this case is singular to working precision: some motion has almost "
             "no inertia of its own against the rest (a blade with blade_static_moment^2 = blade_mass * "
@@ -283,6 +366,7 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
         end = int(worst.at_top)
         rate = worst.rate
     else:
+        check_mass(rotor, body, ends)
         rho = fastest_rate(system, ends, speed_unit)
         if (rho <= allowed).all():
             return
@@ -295,10 +379,7 @@ def check_resolution(rotor: Rotor, body: Body, system, speeds, threshold, speed_
         head += f" ({worst.what})"
         top = worst.value_at(allowed[end])
         limit = (
-            f"; allowed here: {worst.name}{f' ({worst.detail})' if worst.detail else ''} up to about "
-            f"{top:.3g} {worst.unit}"
-            if 0 < top < math.inf
-            else ""
+            f"; allowed here: {worst.short} up to about {top:.3g} {worst.unit}" if 0 < top < math.inf else ""
         )
     else:
         head = f"the fastest root of this case moves at about {rate:.3g} 1/s"

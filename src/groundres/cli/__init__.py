@@ -14,8 +14,9 @@ import sys
 
 import click
 
+from ..errors import printable
 from . import cases, compare, equations, gallery, phasors, report, run, simulate, study
-from .common import Terminated, UserError, interrupts
+from .common import Terminated, UserError, interrupts, matplotlib_folder
 
 
 class _Group(click.Group):
@@ -31,10 +32,10 @@ class _Group(click.Group):
             sys.exit(2)
         except click.UsageError as err:
             where = err.ctx.command_path if err.ctx is not None else "groundres"
-            click.echo(f"error: {err.format_message()} (see {where} --help)", err=True)
+            click.echo(printable(f"error: {err.format_message()} (see {where} --help)"), err=True)
             sys.exit(2)
         except click.ClickException as err:
-            err.show()
+            click.echo(printable(f"error: {err.format_message()}"), err=True)
             sys.exit(err.exit_code)
         except click.Abort:
             click.echo("aborted", err=True)
@@ -68,7 +69,7 @@ class _Group(click.Group):
                 raise UserError(str(err)) from None
             if os.environ.get("GROUNDRES_DEBUG"):
                 raise
-            click.echo(f"error: {type(err).__name__}: {err}", err=True)
+            click.echo(printable(f"error: {type(err).__name__}: {err}"), err=True)
             sys.exit(1)
 
 
@@ -80,6 +81,7 @@ def main():
     Run `groundres run` for the built-in default case, `groundres cases` for the
     shipped cases, `groundres run CASE.toml --out DIR` for your own.
     """
+    matplotlib_folder()  # (before any command imports matplotlib)
 
 
 for _module in (run, simulate, phasors, study, compare, report, gallery, cases, equations):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import shown
 from .common import DEFAULT_CASE, fail_user, make_console, plain
 
 
@@ -20,7 +21,7 @@ def command(name):
     console = make_console()
     if name:
         if name not in shipped:
-            fail_user(f"case {name!r}: no such shipped case; choose one of {', '.join(shipped)}")
+            fail_user(f"case {shown(name)}: no such shipped case; choose one of {', '.join(shipped)}")
         click.echo(shipped[name], nl=False)
         return
     table = simple_table(f"Shipped cases (run with: groundres run NAME; the default is {DEFAULT_CASE})")

@@ -7,11 +7,19 @@ from pathlib import Path
 
 import click
 
+from ..errors import printable, shown
+
 DEFAULT_CASE = "hammond-undamped"
 
 
 class UserError(click.ClickException):
+    """A mistake the user can mend: ``error: <message>`` on stderr, exit status 2; the message
+    has its control characters escaped (:func:`groundres.errors.printable`)."""
+
     exit_code = 2
+
+    def __init__(self, message: str):
+        super().__init__(printable(message))
 
     def show(self, file=None):
         click.echo(f"error: {self.message}", err=True)
@@ -45,6 +53,53 @@ def interrupts():
         signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
+def matplotlib_folder() -> None:
+    """Give matplotlib a private configuration and cache folder where its own is not writable
+    (a read-only or missing HOME), before it is imported: it would otherwise make a
+    temporary one itself and say so on every run. The folder is made by
+    :func:`tempfile.mkdtemp` (mode 0700: no other account can put a matplotlibrc or a
+    font cache in it) and removed at exit; MPLCONFIGDIR, if set, is left as it is.
+    """
+    import os
+    import sys
+
+    if os.environ.get("MPLCONFIGDIR") or "matplotlib" in sys.modules or sys.platform == "win32":
+        return
+    try:
+        home = Path.home()
+    except RuntimeError:  # (no HOME and no account entry)
+        home = None
+    if sys.platform.startswith(("linux", "freebsd")):
+        bases = [
+            os.environ.get("XDG_CONFIG_HOME") or (home and home / ".config"),
+            os.environ.get("XDG_CACHE_HOME") or (home and home / ".cache"),
+        ]
+        folders = [base and Path(base) / "matplotlib" for base in bases]
+    else:
+        folders = [home and home / ".matplotlib"]
+    if all(folder and _writable_folder(folder) for folder in folders):
+        return
+    import atexit
+    import shutil
+    import tempfile
+
+    private = tempfile.mkdtemp(prefix="groundres-matplotlib-")
+    atexit.register(shutil.rmtree, private, ignore_errors=True)
+    os.environ["MPLCONFIGDIR"] = private
+
+
+def _writable_folder(folder: Path) -> bool:
+    """Whether ``folder`` is, or can be made, a writable folder (as matplotlib tries its own)."""
+    import os
+
+    try:
+        folder = folder.resolve()
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False
+    return folder.is_dir() and os.access(folder, os.W_OK)
+
+
 def output_dir(case: str | None, out, command: str = "run") -> Path:
     """--out, or groundres-out/<case name> for run and groundres-out/<case name>-<command> otherwise.
 
@@ -52,7 +107,7 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
     """
     if out is not None:
         if not out.strip():
-            fail_user(f"--out {out!r}: empty; give a folder, e.g. --out results")
+            fail_user(f"--out {shown(out)}: empty; give a folder, e.g. --out results")
         return Path(out)
     name = Path(case).stem if case else DEFAULT_CASE
     return Path("groundres-out") / (name if command == "run" else f"{name}-{command}")
@@ -67,6 +122,20 @@ def check_out(path: Path) -> None:
         check_output_folder(path)
     except OutputFolderError as err:
         fail_user(str(err))
+
+
+@contextlib.contextmanager
+def method_named():
+    """A method the block's analysis cannot use named as the command line gave it: ``--method
+    eigen`` where the option asked for it, the case's ``[sweep] method`` otherwise."""
+    from ..errors import MethodError
+
+    try:
+        yield
+    except MethodError as err:
+        if err.key != "method":  # (the case's own: its message names the key)
+            raise
+        fail_user(err.named(f"--method {err.value}"))
 
 
 def invocation() -> dict:
@@ -84,10 +153,10 @@ def case_at_speed(case: str | None, speed: float):
     the_case = load(case)
     unit = the_case.sweep.unit
     if not (math.isfinite(speed) and speed > 0):
-        fail_user(f"--speed = {speed!r}: must be a finite number > 0 (in {unit}, the case's unit)")
+        fail_user(f"--speed = {shown(speed)}: must be a finite number > 0 (in {unit}, the case's unit)")
     w = speed * SPEED_UNITS[unit]
     if not (math.isfinite(w) and w > 0):
-        fail_user(f"--speed = {speed!r} {unit}: outside the floating-point range in rad/s")
+        fail_user(f"--speed = {shown(speed)} {unit}: outside the floating-point range in rad/s")
     from ..assess.resolution import check_representable
     from ..model.system import System
 
@@ -102,12 +171,12 @@ def load(case: str | None, named: bool = False):
 
     ``named``: the message names the argument (for commands that read several cases).
     """
-    from ..errors import CaseError, shown
+    from ..errors import CaseError
     from ..model.schema import load_case
 
     if case is not None and not case.strip():
         default = "" if named else " (none: the default case)"
-        fail_user(f"CASE {case!r}: empty; give a case file or a shipped case name{default}")
+        fail_user(f"CASE {shown(case)}: empty; give a case file or a shipped case name{default}")
     try:
         return load_case(case if case is not None else DEFAULT_CASE)
     except CaseError as err:
@@ -143,10 +212,36 @@ FORMAT = click.option(
 )
 
 
-def make_console():
+def make_console(**options):
+    """The console commands print to (stdout; ``options`` of rich's Console): no highlighting,
+    and no control character of printed text reaches the terminal (:class:`_Printable`),
+    whatever the command printed."""
     from rich.console import Console
 
-    return Console(stderr=False, highlight=False)
+    console = Console(**{"stderr": False, "highlight": False, **options})
+    console.push_render_hook(_Printable())
+    return console
+
+
+class _Printable:
+    """A rich render hook: every printed renderable with control characters in its text
+    escaped (rich's own styles and cursor moves are control segments, kept). Text
+    is escaped before layout where it is made (:func:`plain`); this holds for the rest."""
+
+    def process_renderables(self, renderables):
+        return [_Escaped(r) for r in renderables]
+
+
+class _Escaped:
+    def __init__(self, renderable):
+        self.renderable = renderable
+
+    def __rich_console__(self, console, options):
+        from rich.segment import Segment
+
+        for segment in console.render(self.renderable, options):
+            text, style, control = segment
+            yield segment if control else Segment(printable(text), style, control)
 
 
 def status(console, text):
@@ -154,7 +249,7 @@ def status(console, text):
     if console.is_terminal:
         from rich.text import Text
 
-        return console.status(Text(text))  # plain text: a title's brackets are not markup
+        return console.status(Text(plain_text(text)))  # plain text: a title's brackets are not markup
     return contextlib.nullcontext()
 
 
@@ -208,7 +303,8 @@ class Steps:
         if self._progress is None:
             return
         if stage not in self._tasks:
-            self._tasks[stage] = self._progress.add_task(self.labels.get(stage, stage), total=total)
+            label = plain_text(self.labels.get(stage, stage))  # (a case's name in it, escaped)
+            self._tasks[stage] = self._progress.add_task(label, total=total)
         self._progress.update(self._tasks[stage], completed=done, total=total)
 
     def step(self, stage: str):
@@ -223,12 +319,15 @@ class Steps:
         return block()
 
 
-def plain(text) -> str:
-    """User text (a title, a label) made safe to print through rich: markup shown literally, and no
-    control character but line ends and tabs (an escape sequence in a title must not drive the terminal)."""
-    import unicodedata
+def plain_text(text) -> str:
+    """User text (a title, a path) as printed: every control character but a line end escaped
+    (``\\x1b``: an escape sequence in a title must not drive the terminal)."""
+    return printable(text)
 
+
+def plain(text) -> str:
+    """User text (a title, a label) made safe to print through rich as markup: as
+    :func:`plain_text`, and its markup shown literally."""
     from rich.markup import escape
 
-    text = "".join(ch for ch in str(text) if ch in "\n\t" or unicodedata.category(ch) != "Cc")
-    return escape(text)
+    return escape(plain_text(text))

@@ -16,6 +16,7 @@ from .common import (
     invocation,
     load,
     make_console,
+    method_named,
     out_option,
     output_dir,
     plain,
@@ -89,7 +90,8 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
         def progress(number, stage, done, total):
             steps(f"Entry {number} ({asked[number - 1]}): {STAGES.get(stage, stage).lower()}", done, total)
 
-        comparison = compare(loaded, methods, frame, progress=steps.callback and progress)
+        with method_named():
+            comparison = compare(loaded, methods, frame, progress=steps.callback and progress)
         plot["modes"] = check_modes(modes, comparison.labels, "a mode of any entry")
         check_scale(*(e.result for e in comparison.entries), speed_axis=speed_axis)
         rows = comparison.differences()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import printable
 from .common import load
 
 
@@ -14,7 +15,9 @@ from .common import load
     "--form",
     type=click.Choice(["auto", "blade", "multiblade"]),
     default="auto",
-    help="Blade coordinates (periodic) or multiblade coordinates (identical blades).",
+    help="Blade coordinates (periodic) or multiblade coordinates (time-invariant for identical "
+    "blades, N >= 3; for other rotors the matrices of identical blades, with a note of what they "
+    "leave out) [default: auto, multiblade where they are exact].",
 )
 def command(case, latex, form):
     """Print the mass, damping and stiffness matrices derived for CASE.
@@ -22,7 +25,10 @@ def command(case, latex, form):
     Blade-coordinate form: the contribution of blade k at azimuth psi_k (body
     dofs, lag, flap). Multiblade form (identical blades): the exact
     time-invariant matrices, rows premultiplied by T' (cyclic rows are N/2
-    times the averaged equations).
+    times the averaged equations). Asked of a rotor whose blades differ (a
+    failed damper), the multiblade form prints the matrices of identical
+    blades under a note saying so: the differences add periodic terms it
+    leaves out (the blade form holds them).
     """
     import sympy as sp
 
@@ -36,7 +42,9 @@ def command(case, latex, form):
     if form == "auto":
         form = "multiblade" if rotor.identical and rotor.n_blades >= 3 else "blade"
     show = sp.latex if latex else (lambda m: sp.pretty(m, wrap_line=False, use_unicode=True))
-    click.echo(f"# {the_case.title}")
+    click.echo(f"# {printable(the_case.title, keep='')}")
+    if form == "multiblade" and not rotor.identical:
+        click.echo(_not_identical_note(the_case))
     if form == "multiblade":
         names, *mats = multiblade_equations(eq, rotor.n_blades, body.dofs, rotor.flap)
         click.echo(f"# multiblade coordinates q = [{', '.join(names)}];  M q'' + C q' + K q = 0")
@@ -59,6 +67,36 @@ def command(case, latex, form):
         click.echo(f"\n{title} matrix:")
         click.echo(show(mat))
     _numeric_parts(the_case, show)
+
+
+def _not_identical_note(case) -> str:
+    """Why the multiblade matrices printed are not this rotor's (its blades differ), as comment lines."""
+    from collections import Counter
+    from dataclasses import fields
+
+    from ..methods import Method, time_invariant
+
+    blades = case.rotor.blades
+    common = Counter(blades).most_common(1)[0][0]  # (the blade most are like)
+    odd = next(((k, b) for k, b in enumerate(blades, start=1) if b != common), None)
+    if odd is not None:
+        k, blade = odd
+        key = next(f.name for f in fields(blade) if getattr(blade, f.name) != getattr(common, f.name))
+        why = f"blade {k}'s {key} is {getattr(blade, key):g}, the others' {getattr(common, key):g}"
+    else:
+        why = "its damper rods do not repeat from blade to blade: a failed or missing rod"
+    how = (
+        "in rotating axes (its body is isotropic)"
+        if time_invariant(case) is Method.ROTATING
+        else "by Floquet theory"
+    )
+    return (
+        f"# NOTE: this rotor does not look the same from every blade ({why}),\n"
+        "#   so its multiblade equations are periodic. The matrices below are those of identical\n"
+        "#   blades (the symbols one blade's values), without the periodic terms the differences\n"
+        "#   add; --form blade prints each blade's equations exactly.\n"
+        f"#   groundres analyses this case {how}."
+    )
 
 
 def _numeric_parts(case, show) -> None:

@@ -6,6 +6,7 @@ import shlex
 
 import click
 
+from ..errors import shown
 from .common import FORMAT, Steps, check_out, fail_user, invocation, make_console, out_option, plain
 
 
@@ -24,10 +25,11 @@ def parse_figures(text: str | None) -> tuple[int, ...]:
         except ValueError:
             low = high = None
         if low is not None and low > high:
-            fail_user(f"--figures {text!r}: {part.strip()!r} runs backwards; give {allowed}")
+            fail_user(f"--figures {shown(text)}: {shown(part.strip())} runs backwards; give {allowed}")
         if low is None or not (NUMBERS[0] <= low <= high <= NUMBERS[-1]):
             fail_user(
-                f"--figures {text!r}: {part.strip()!r} is not one of the paper's figures; give {allowed}"
+                f"--figures {shown(text)}: {shown(part.strip())} is not one of the paper's figures; "
+                f"give {allowed}"
             )
         chosen += range(low, high + 1)
     return tuple(sorted(set(chosen)))
@@ -61,7 +63,7 @@ def command(out, fmt, figures):
     console = make_console()
     out_dir = Path(out) if out is not None else Path("groundres-out") / "gallery"
     if out is not None and not out.strip():
-        fail_user(f"--out {out!r}: empty; give a folder, e.g. --out gallery")
+        fail_user(f"--out {shown(out)}: empty; give a folder, e.g. --out gallery")
     check_out(out_dir)
     from ..pages.gallery import build, gallery_page
     from ..results import files, folders

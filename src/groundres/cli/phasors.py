@@ -6,6 +6,7 @@ import contextlib
 
 import click
 
+from ..errors import shown
 from ..model.units import fmt_frequency, ref_note
 from .common import (
     FORMAT,
@@ -75,7 +76,7 @@ def command(case, speed, labels, gif, scale, out, fmt):
         for label in labels:
             if label not in result.labels:
                 choices = ", ".join(result.labels)
-                fail_user(f"--mode {label!r}: not a mode of this case; choose from {choices}")
+                fail_user(f"--mode {shown(label)}: not a mode of this case; choose from {choices}")
         if not labels:
             worst = result.labels[int(np.argmax(result.real_part[i]))]
             others = [lab for lab in result.labels if lab == "regressive lag" or lab.startswith("body")]

@@ -17,6 +17,7 @@ from .common import (
     invocation,
     load,
     make_console,
+    method_named,
     out_option,
     output_dir,
     plain,
@@ -32,11 +33,11 @@ def study_folder(path: str) -> Path:
     """A study folder given to --study: it must hold study.nc or boundary.nc."""
     folder = Path(path)
     if not folder.is_dir():
-        fail_user(f"--study {path!r}: not a folder; give the --out folder of a groundres study")
+        fail_user(f"--study {shown(path)}: not a folder; give the --out folder of a groundres study")
     data = [folder / name for name in STUDY_DATA if (folder / name).is_file()]
     if not data:
         fail_user(
-            f"--study {path!r}: holds neither study.nc nor boundary.nc; give the --out folder of a "
+            f"--study {shown(path)}: holds neither study.nc nor boundary.nc; give the --out folder of a "
             f"groundres study"
         )
     import json
@@ -50,14 +51,16 @@ def study_folder(path: str) -> Path:
         ours = False
     if not ours:
         fail_user(
-            f"--study {path!r}: not the --out folder of a groundres study (its provenance.json does "
+            f"--study {shown(path)}: not the --out folder of a groundres study (its provenance.json does "
             "not say so)"
         )
     try:
         xr.open_dataset(data[0]).close()
     except Exception as err:  # noqa: BLE001 - any unreadable file is the user's to fix
         first = str(err).strip().splitlines()[0] if str(err).strip() else ""
-        fail_user(f"--study {path!r}: {data[0].name} cannot be read ({type(err).__name__}: {shown(first)})")
+        fail_user(
+            f"--study {shown(path)}: {data[0].name} cannot be read ({type(err).__name__}: {shown(first)})"
+        )
     return folder
 
 
@@ -111,7 +114,7 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     study_dir = study_folder(study) if study is not None else None
     if case is None and study_dir is not None:
         if not (study_dir / "case.toml").is_file():
-            fail_user(f"--study {study!r}: holds no case.toml; name the CASE to report")
+            fail_user(f"--study {shown(study)}: holds no case.toml; name the CASE to report")
         case = str(study_dir / "case.toml")
         name = study_dir.name
     else:
@@ -132,7 +135,8 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     from ..results import files, folders
 
     with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
-        result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        with method_named():
+            result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
         with steps.step("page"), folders.output_folder(out_dir) as folder:

@@ -17,6 +17,7 @@ from .common import (
     invocation,
     load,
     make_console,
+    method_named,
     output_dir,
 )
 from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
@@ -79,7 +80,8 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
     from .printout import print_result
 
     with Steps(console, STAGES) as steps:
-        result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
+        with method_named():
+            result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
         with steps.step("write"), folders.output_folder(out_dir) as folder:

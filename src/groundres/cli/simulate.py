@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..errors import shown
 from .common import (
     FORMAT,
     Steps,
@@ -33,7 +34,8 @@ from .common import (
     "--initial",
     multiple=True,
     metavar="NAME=VALUE",
-    help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable "
+    help="Initial displacement (m, rad) or rate (NAME_rate), e.g. x=0.01, lag1=0.02; repeatable; "
+    "|VALUE| <= 1e150 (the equations are linear: the size only scales the motion) "
     "[default: every body dof present = 0.01 and lag1 = 0.01].",
 )
 @out_option("groundres-out/<case name>-simulate")
@@ -48,7 +50,7 @@ def command(case, speed, duration, initial, out, fmt):
     """
     from ..analysis import simulate
     from ..assess.stability import is_neutral
-    from ..errors import ParameterError, shown
+    from ..errors import ParameterError
     from ..results import files, folders
 
     console = make_console()
@@ -59,7 +61,7 @@ def command(case, speed, duration, initial, out, fmt):
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}
     given = {
-        "speed": f"{speed!r} {unit}",
+        "speed": f"{shown(speed)} {unit}",
         "duration": repr(duration) if duration is not None else "(the default)",
     }
     with Steps(console, labels) as steps:
@@ -67,6 +69,8 @@ def command(case, speed, duration, initial, out, fmt):
         try:
             sim = simulate(the_case, w, duration=duration, initial=values or None, progress=report)
         except ParameterError as err:  # (named as the command line's options)
+            if err.key == "initial":  # (as given: --initial x=1e+308)
+                fail_user(f"--initial {_initial_text(err.value, initial)}: {err.allowed}")
             option = OPTIONS.get(err.key, err.key)
             fail_user(f"{option} = {given.get(err.key) or shown(err.value)}: {err.allowed}")
         steps("integrate", sim.time[-1], sim.time[-1])
@@ -112,6 +116,14 @@ def command(case, speed, duration, initial, out, fmt):
 OPTIONS = {"speed": "--speed", "duration": "--time", "initial": "--initial"}
 
 
+def _initial_text(value, items) -> str:
+    """The --initial values an error names, NAME=VALUE as given (the default: so said)."""
+    if not isinstance(value, dict):  # (a name that is no coordinate)
+        return shown(value)
+    text = " ".join(f"{shown(k)[1:-1] if isinstance(k, str) else shown(k)}={v!r}" for k, v in value.items())
+    return text if items else f"{text} (the default)"
+
+
 def _initial_values(items) -> dict:
     """--initial NAME=VALUE options as a dict; names are checked against the model later."""
     import math
@@ -124,10 +136,10 @@ def _initial_values(items) -> dict:
         except ValueError:
             number = None
         if not sep or not key.strip() or number is None:
-            fail_user(f"--initial {item!r}: expected NAME=NUMBER, e.g. x=0.01")
+            fail_user(f"--initial {shown(item)}: expected NAME=NUMBER, e.g. x=0.01")
         if not math.isfinite(number):
-            fail_user(f"--initial {item!r}: the value must be a finite number")
+            fail_user(f"--initial {shown(item)}: the value must be a finite number")
         values[key.strip()] = number
     if values and not any(values.values()):
-        fail_user(f"--initial {' '.join(items)!r}: every value is zero, so nothing would move")
+        fail_user(f"--initial {shown(' '.join(items))}: every value is zero, so nothing would move")
     return values

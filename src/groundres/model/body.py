@@ -95,15 +95,20 @@ class Leg:
 
     def matrix(self, kind: str) -> np.ndarray:
         """The leg's ``kind`` ("stiffness" or "damping") matrix on all six body coordinates."""
+        return self.along(*(getattr(self, f"{kind}_{a}") for a in "xyz"))
+
+    def along(self, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+        """The matrix (6, 6) of springs (or dampers) ``x``, ``y``, ``z`` along the ground axes at
+        this leg; linear in them (``along(z=1.0)`` times ``stiffness_z`` is that spring's share)."""
         from ..symbolic.codegen import generated
 
         return generated("leg_matrix")(
             position_x=self.position_x,
             position_y=self.position_y,
             position_z=self.position_z,
-            along_x=getattr(self, f"{kind}_x"),
-            along_y=getattr(self, f"{kind}_y"),
-            along_z=getattr(self, f"{kind}_z"),
+            along_x=x,
+            along_y=y,
+            along_z=z,
         )
 
 
@@ -237,14 +242,16 @@ class Body:
         self._check_held("stiffness")
 
     def _check_held(self, kind: str) -> None:
-        """Every chosen coordinate meets some stiffness of the legs (else a free rigid motion)."""
-        matrix = self.matrices()[2]
-        values, vectors = np.linalg.eigh(matrix)
-        scale = max(np.abs(values).max(), 1e-300)
-        if values.min() > SINGULAR * scale:
+        """Every chosen coordinate meets some stiffness of the legs (else a free rigid motion),
+        resolved in double precision beside the largest."""
+        if _resolved(self._leg_matrix(kind)):
             return
-        free = vectors[:, 0]
-        dof = self.dofs[int(np.argmax(np.abs(free)))]
+        # the legs as they stand, each spring 1: do they hold every coordinate at all?
+        unit = self._leg_matrix(kind, lambda leg, a: float(getattr(leg, f"{kind}_{a}") > 0))
+        if _resolved(unit):
+            raise self._spread_error(kind)
+        values, vectors = np.linalg.eigh(unit)
+        dof = self.dofs[int(np.argmax(np.abs(vectors[:, 0])))]
         what = "a rotation only at a distance from the pivot" if dof not in TRANSLATIONS else "along its axis"
         raise ParameterError(
             "dofs",
@@ -252,6 +259,55 @@ class Body:
             f"the gear legs hold no {kind} against '{dof}' (a leg resists {what}), or hold it so "
             f"little against their other {kind} (legs very far from the centre of mass) that it is "
             "lost to round-off: place the legs so that they hold it, or leave it out of dofs",
+        )
+
+    def _leg_matrix(self, kind: str, value=None) -> np.ndarray:
+        """The legs' ``kind`` matrix on the chosen coordinates; ``value(leg, axis)`` in place of
+        each leg's own ``kind``_axis if given."""
+        keep = [BODY_DOFS.index(d) for d in self.dofs]
+        value = value or (lambda leg, a: getattr(leg, f"{kind}_{a}"))
+        total = sum(leg.along(*(value(leg, a) for a in "xyz")) for leg in self.gear)
+        return total[np.ix_(keep, keep)]
+
+    def _spread_error(self, kind: str) -> ParameterError:
+        """The legs hold every coordinate, but one leg's ``kind`` lies so far from the others'
+        that their matrix is singular in double precision: the error naming it (the value
+        farthest, in decades, from the middle of the legs' values)."""
+        given = [
+            (abs(math.log10(getattr(leg, f"{kind}_{a}"))), n, a, getattr(leg, f"{kind}_{a}"))
+            for n, leg in enumerate(self.gear, start=1)
+            for a in "xyz"
+            if getattr(leg, f"{kind}_{a}") > 0
+        ]
+        middle = float(np.median([math.log10(v) for *_, v in given]))
+        _, n, axis, value = max(given, key=lambda g: (abs(math.log10(g[3]) - middle), -g[1]))
+        key = f"{kind}_{axis}"
+        others = max(v for _, m, a, v in given if (m, a) != (n, axis))
+        large = math.log10(value) > middle
+        values = np.linalg.eigvalsh(self._leg_matrix(kind))
+        ratio = max(values.min(), 0.0) / max(abs(values).max(), 1e-300)
+        if ratio > 0:  # (the value that would leave the smallest eigenvalue resolved, with a margin)
+            guess = value * (ratio / (10 * SINGULAR) if large else 10 * SINGULAR / ratio)
+        else:
+            guess = others / (10 * SINGULAR) if large else others * 10 * SINGULAR
+
+        def trial(leg, a):
+            return guess if (leg is self.gear[n - 1] and a == axis) else getattr(leg, f"{kind}_{a}")
+
+        unit = "N/m" if kind == "stiffness" else "N s/m"
+        allowed = (
+            f"; here {'up to' if large else 'at least'} about {guess:.2g} {unit}"
+            if _resolved(self._leg_matrix(kind, trial))
+            else ""
+        )
+        return ParameterError(
+            f"gear[{n}].{key}",
+            value,
+            f"so {'large' if large else 'small'} against the legs' other {kind} values (up to "
+            f"{others:.3g} {unit}) that the body's {kind} matrix cannot be resolved in double "
+            f"precision (its smallest eigenvalue is below {SINGULAR:.0e} of its largest, lost to "
+            f"round-off): keep the legs' {kind} values within about {1 / SINGULAR:.0e} of each "
+            f"other{allowed}",
         )
 
     def inertia_tensor(self) -> np.ndarray:
@@ -342,6 +398,13 @@ class Body:
             math.isclose(self.value(k, a), self.value(k, b), rel_tol=1e-12, abs_tol=0.0)
             for k in ("inertia", "stiffness", "damping")
         )
+
+
+def _resolved(matrix: np.ndarray) -> bool:
+    """Whether a symmetric positive semi-definite ``matrix`` has every eigenvalue above
+    :data:`SINGULAR` of its largest (none lost to round-off)."""
+    values = np.linalg.eigvalsh(matrix)
+    return bool(values.min() > SINGULAR * max(np.abs(values).max(), 1e-300))
 
 
 BODY_KEYS = tuple(f.name for f in fields(Body) if f.name not in ("dofs", "gear"))

@@ -227,7 +227,7 @@ def _body(data: dict) -> Body:
         if d not in BODY_DOFS:
             near = difflib.get_close_matches(d, BODY_DOFS, n=1, cutoff=0.5)
             hint = f" (did you mean '{near[0]}'?)" if near else ""
-            raise CaseError(f"[body] dofs = {dofs!r}: '{d}' is not one of {list(BODY_DOFS)}{hint}")
+            raise CaseError(f"[body] dofs = {shown(dofs)}: {shown(d)} is not one of {list(BODY_DOFS)}{hint}")
     modal = [k for k in MODAL_KEYS if k in data]
     rigid = [k for k in (*RIGID_KEYS, "gear") if k in data]
     if modal and rigid:
@@ -258,7 +258,12 @@ def _body(data: dict) -> Body:
         _check_table("body.gear", entry)
         legs.append(_build(f"[[body.gear]] {i}: ", Leg, **{k: float(v) for k, v in entry.items()}))
     values = {k: float(v) for k, v in data.items() if k not in ("dofs", "gear")}
-    return _build("[body] ", Body, dofs=tuple(dofs), gear=tuple(legs), **values)
+    try:
+        return Body(dofs=tuple(dofs), gear=tuple(legs), **values)
+    except ParameterError as err:  # (a leg's key, "gear[2].stiffness_x", as the file writes it)
+        leg, _, key = err.key.partition("].")
+        where = f"[[body.gear]] {leg.removeprefix('gear[')}: {key}" if key else f"[body] {err.key}"
+        raise CaseError(f"{where} = {shown(err.value)}: {err.allowed}") from None
 
 
 #: The [sweep] keys that hold speeds (in the case's unit).
@@ -269,7 +274,7 @@ def _sweep(data: dict) -> Sweep:
     _check_table("sweep", data)
     unit = data.get("unit", "rad/s")
     if unit not in SPEED_UNITS:
-        raise CaseError(f"[sweep] unit = {unit!r}: must be one of {list(SPEED_UNITS)}")
+        raise CaseError(f"[sweep] unit = {shown(unit)}: must be one of {list(SPEED_UNITS)}")
     factor = SPEED_UNITS[unit]
     kwargs = {k: data[k] for k in ("points", "frame", "method") if k in data}
     if "required_damping_ratio" in data:
@@ -288,9 +293,9 @@ def _sweep(data: dict) -> Sweep:
         value = data.get(err.key, err.value)  # as written, in the case's unit
         allowed = err.allowed
         if err.key == "start" and "below stop" in allowed:
-            allowed = f"must be below stop ({data['stop']!r})"
+            allowed = f"must be below stop ({shown(data['stop'])})"
         if "inside the sweep" in allowed:
-            ends = f"from start ({data['start']!r}) to stop ({data['stop']!r}) {unit}"
+            ends = f"from start ({shown(data['start'])}) to stop ({shown(data['stop'])}) {unit}"
             allowed = f"must be a speed inside the sweep, {ends}"
         raise CaseError(f"[sweep] {err.key} = {shown(value)}: {allowed}") from None
 

@@ -16,6 +16,7 @@ case and returns a :class:`groundres.results.simulation.Simulation`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -190,6 +191,14 @@ def initial_text(values: dict) -> str:
     return ", ".join(f"{k} = {v:g} {unit(k)}" for k, v in values.items())
 
 
+#: Largest motion [m, rad; m/s, rad/s] a simulation may hold, from its initial values to
+#: their growth over the run: with coefficients up to :data:`LARGEST_COEFFICIENT`, their
+#: products stay inside double precision. The equations are linear, so the size of the
+#: disturbance scales the whole motion and leaves its growth rate unchanged; the model holds
+#: for small motions about rest (centimetres, a few degrees), far below this bound.
+LARGEST_MOTION = 1e150
+
+
 def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]:
     """Initial displacements and rates from names like "x", "lag1", "flap3", "roll_rate".
 
@@ -197,7 +206,8 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
     ------
     ParameterError
         For a name that is not a coordinate of the system (the message lists the
-        names), a value that is not a finite number, or values that are all zero.
+        names), a value that is not a finite number within +-:data:`LARGEST_MOTION`,
+        or values that are all zero.
     """
     names = [c.name if c.kind == "body" else f"{c.kind}{c.name}" for c in system.coordinates]
     q0, v0 = np.zeros(system.size), np.zeros(system.size)
@@ -209,6 +219,15 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
             )
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
             raise ParameterError("initial", {key: value}, "each value must be a finite number [m, rad]")
+        if abs(value) > LARGEST_MOTION:
+            raise ParameterError(
+                "initial",
+                {key: value},
+                f"|value| <= {LARGEST_MOTION:.0e} [m, rad; m/s, rad/s for a rate]: the equations are "
+                "linear, so the disturbance's size scales the whole motion and leaves its growth rate "
+                "unchanged (the model holds for small motions, centimetres and a few degrees); beyond "
+                "the bound the motion times the equations' coefficients leaves double precision",
+            )
         (v0 if rate else q0)[names.index(base)] = value
     if not (q0.any() or v0.any()):
         raise ParameterError("initial", dict(values), "every value is zero, so nothing would move")
@@ -261,6 +280,49 @@ def estimate_steps(system: System, speed: float, duration: float) -> float:
     (``inf`` if unbounded)."""
     with np.errstate(all="ignore"):
         return float(duration * fastest_rate(system, speed) / (2 * np.pi) * STEPS_PER_PERIOD)
+
+
+def fit_growth(
+    duration: float, growth: float, values: dict, given: bool, speed: float, speed_name=None
+) -> float:
+    """``duration`` [s], or a default one shortened, over which the motion from ``values`` (the
+    initial state) growing at ``growth`` [1/s] (the largest real part) stays within
+    :data:`LARGEST_MOTION`.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``duration`` (given, and too long for that growth: the message gives the longest
+        that fits) or ``initial`` (too large even for the shortest run that measures growth).
+    """
+    size = max(abs(v) for v in values.values())
+    if not growth > 0 or not size > 0:
+        return duration
+    longest = math.log(LARGEST_MOTION / size) / growth
+    if duration <= longest:
+        return duration
+    at_speed = f"at {speed_name or f'{speed:.4g} rad/s'}"
+    shortest = MIN_REVOLUTIONS * 2 * np.pi / speed
+    grows = f"the motion grows at {growth:.4g} 1/s {at_speed} (the largest real part)"
+    if longest >= shortest:
+        if not given:  # (the default run, shortened to fit)
+            return float(longest)
+        raise ParameterError(
+            "duration",
+            duration,
+            f"{grows}, by e^{growth * duration:.4g} over this run: from the largest initial value "
+            f"({size:g}) it would pass {LARGEST_MOTION:.0e}, beyond what the integration holds; at most "
+            f"{longest:.4g} s fits (or a smaller initial disturbance)",
+        )
+    largest = LARGEST_MOTION * math.exp(-growth * shortest)
+    name = max(values, key=lambda k: abs(values[k]))
+    raise ParameterError(
+        "initial",
+        {name: values[name]},
+        f"{grows}, by e^{growth * shortest:.4g} over the shortest run that measures growth "
+        f"({MIN_REVOLUTIONS} revolutions, {shortest:.4g} s): the initial values must be at most "
+        f"{largest:.2g} for the motion to stay within {LARGEST_MOTION:.0e}",
+    )
 
 
 #: A default run lasts at least this many revolutions, at most MOST_REVOLUTIONS.
