@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from ..errors import shown
-from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_console
+from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_console, plain
 
 #: The map in each format --format offers.
 MAP_FILES = {f"map.{fmt}" for fmt in FIGURE_FORMATS}
@@ -24,7 +24,7 @@ def parse_vary(items) -> dict:
         key, spec = key.strip(), spec.strip()
         if not eq or not key or not spec:
             fail_user(
-                f"--vary {item!r}: must be KEY=START:STOP:COUNT[:log], e.g. rotor.lag_damping=0:8000:17"
+                f"--vary {shown(item)}: must be KEY=START:STOP:COUNT[:log], e.g. rotor.lag_damping=0:8000:17"
             )
         if key in out:
             fail_user(f"--vary {key}: given twice")
@@ -149,7 +149,7 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     out_dir = Path(out)
     boundary = canonical(boundary) if boundary is not None else None
     if boundary is not None and boundary not in grid.keys:
-        fail_user(f"--boundary {boundary!r}: must be one of the --vary keys ({', '.join(grid.keys)})")
+        fail_user(f"--boundary {shown(boundary)}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
     if scheduler is not None and dashboard:
@@ -327,7 +327,7 @@ def _report(console, ds, grid, out_dir, seconds, reused=0, fmt="png"):
     if failed:
         first = ds.error.values.ravel()[np.flatnonzero(ds.error.values.ravel() != "")[0]]
         console.print(f"A failed point's reason: {first}", markup=False)
-    console.print(f"Wrote {out_dir}/study.zarr, study.nc, map.{fmt}, case.toml, provenance.json")
+    console.print(f"Wrote {plain(str(out_dir))}/study.zarr, study.nc, map.{fmt}, case.toml, provenance.json")
 
 
 def _report_boundary(console, ds, grid, out_dir, seconds, fmt="png"):
@@ -343,4 +343,4 @@ def _report_boundary(console, ds, grid, out_dir, seconds, fmt="png"):
         f"(a grid would take {grid.size}); boundary found on {found}, none in the range on "
         f"{lines - found - failed}, {failed} failed."
     )
-    console.print(f"Wrote {out_dir}/boundary.nc, map.{fmt}, case.toml, provenance.json")
+    console.print(f"Wrote {plain(str(out_dir))}/boundary.nc, map.{fmt}, case.toml, provenance.json")
