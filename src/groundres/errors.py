@@ -17,6 +17,7 @@ failure of groundres itself (exit status 1).
 from __future__ import annotations
 
 import math
+import os
 
 
 def shown(value) -> str:
@@ -31,6 +32,19 @@ def shown(value) -> str:
         return repr(value)
     text = repr(value)
     return text if len(text) <= 60 else f"{text[:40]}...{text[-12:]}"
+
+
+def shown_path(path) -> str:
+    """A file or folder name fit for a one-line message: quoted as ``repr`` quotes it, and past
+    100 characters shortened to its start and end with its length in bytes."""
+    text = os.fsdecode(path)
+    if len(text) <= 100:
+        return repr(text)
+    try:
+        size = len(os.fsencode(text))
+    except UnicodeError:  # (a lone surrogate no file system takes)
+        size = len(text.encode("utf-8", "surrogatepass"))
+    return f"{text[:56] + '...' + text[-32:]!r} ({size} bytes)"
 
 
 class InputError(ValueError):
