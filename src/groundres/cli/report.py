@@ -17,6 +17,7 @@ from .common import (
     invocation,
     load,
     make_console,
+    out_name,
     out_option,
     output_dir,
     plain,
@@ -126,7 +127,7 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
                 "Note: the study's case.toml is not this case; the report shows the study's map as it is."
             )
     out_dir = output_dir(name, out, "report")
-    check_out(out_dir)
+    check_out(out_dir, out)
     warm = warm_plotting()
     from ..analysis import analyze
     from ..results import files, folders
@@ -135,7 +136,7 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
         result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
-        with steps.step("page"), folders.output_folder(out_dir) as folder:
+        with steps.step("page"), folders.output_folder(out_dir, out_name(out)) as folder:
             warm.join()
             from ..pages.report import report_page
 
