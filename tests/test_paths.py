@@ -22,7 +22,9 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 from click.testing import CliRunner
 
 from conftest import HAMMOND_TOML
@@ -520,3 +522,65 @@ def test_stale_probe_folders_are_removed_like_other_hidden_folders(tmp_path):
     result, _ = cli("run", write_quick(tmp_path), "--out", tmp_path / "out")
     assert result.exit_code == 0, result.output
     assert leftovers(tmp_path) == []
+
+
+# -- 6. the study folder report --study reads ------------------------------------------------------
+
+
+def test_report_study_too_long_is_named(tmp_path):
+    result, elapsed = cli("report", "--study", tmp_path / ("s" * 300), "--out", tmp_path / "r")
+    refused(result, elapsed, "--study '", "File name too long", "sss' (")
+
+
+def _study_folder(folder: Path) -> Path:
+    """The files a study's --out holds that the report reads."""
+    folder.mkdir()
+    ds = xr.Dataset(
+        {"stable": (("rotor.lag_damping",), np.array([0, 1]))}, coords={"rotor.lag_damping": [1.0, 2.0]}
+    )
+    ds.to_netcdf(folder / "study.nc")
+    (folder / "case.toml").write_text(QUICK)
+    (folder / "provenance.json").write_text('{"generator": "groundres", "command": "study"}')
+    (folder / "map.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    return folder
+
+
+@pytest.mark.parametrize("name", ["provenance.json", "map.png", "case.toml"])
+def test_report_study_with_a_fifo_is_refused_never_waited_on(tmp_path, name):
+    """provenance.json was read as soon as the folder was checked, map.png and case.toml after
+    the analysis: a FIFO in the study folder made the report wait forever."""
+    study = _study_folder(tmp_path / "study")
+    (study / name).unlink()
+    os.mkfifo(study / name)
+    code, err = bounded("report", "--study", study, "--out", tmp_path / "r", timeout=120)
+    assert code == 2 and f"--study {str(study)!r}: {name}: not a regular file (a FIFO)" in err, err
+    assert not (tmp_path / "r").exists()
+
+
+def test_report_study_with_a_case_copy_that_is_not_utf8(tmp_path):
+    """It was compared with the case as text: UnicodeDecodeError (exit 1)."""
+    study = _study_folder(tmp_path / "study")
+    (study / "case.toml").write_bytes(b"\xff\xfe t i t l e")
+    result, elapsed = cli("report", "hammond-undamped", "--study", study, "--out", tmp_path / "r")
+    refused(result, elapsed, "--study '", "case.toml is not UTF-8 text")
+    assert not (tmp_path / "r").exists()
+
+
+@modes
+@pytest.mark.parametrize("name", ["case.toml", "map.png"])
+def test_report_study_with_an_unreadable_file(tmp_path, name):
+    """PermissionError (exit 1), the map's only after the analysis."""
+    study = _study_folder(tmp_path / "study")
+    os.chmod(study / name, 0)
+    result, elapsed = cli("report", "hammond-undamped", "--study", study, "--out", tmp_path / "r")
+    refused(result, elapsed, "--study '", f"{name}: cannot be read (permission denied)")
+
+
+def test_report_study_that_is_a_file_or_not_a_study(tmp_path):
+    (tmp_path / "file").write_text("x")
+    result, elapsed = cli("report", "--study", tmp_path / "file", "--out", tmp_path / "r")
+    refused(result, elapsed, "--study '", "not a folder (a regular file)")
+    study = _study_folder(tmp_path / "study")
+    (study / "provenance.json").unlink()
+    result, elapsed = cli("report", "--study", study, "--out", tmp_path / "r")
+    refused(result, elapsed, "not the --out folder of a groundres study (it has no provenance.json)")
