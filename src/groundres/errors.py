@@ -17,6 +17,7 @@ failure of groundres itself (exit status 1).
 from __future__ import annotations
 
 import math
+import os
 import unicodedata
 
 #: Longest ``repr`` of a value a message shows whole; a longer one keeps its start and end.
@@ -53,6 +54,19 @@ def brief(text: str) -> str:
     """``text`` (a name, a title) whole up to :data:`SHOWN_LENGTH` characters, else its start
     and end around an ellipsis."""
     return text if len(text) <= SHOWN_LENGTH else f"{text[:40]}...{text[-12:]}"
+
+
+def shown_path(path) -> str:
+    """A file or folder name fit for a one-line message: quoted as ``repr`` quotes it, and past
+    100 characters shortened to its start and end with its length in bytes."""
+    text = os.fsdecode(path)
+    if len(text) <= 100:
+        return repr(text)
+    try:
+        size = len(os.fsencode(text))
+    except UnicodeError:  # (a lone surrogate no file system takes)
+        size = len(text.encode("utf-8", "surrogatepass"))
+    return f"{text[:56] + '...' + text[-32:]!r} ({size} bytes)"
 
 
 class InputError(ValueError):

@@ -113,13 +113,20 @@ def output_dir(case: str | None, out, command: str = "run") -> Path:
     return Path("groundres-out") / (name if command == "run" else f"{name}-{command}")
 
 
-def check_out(path: Path) -> None:
-    """Refuse, before any work, an output folder that holds files groundres did not write."""
+def out_name(out) -> str:
+    """What messages call an output folder: --out, or the default one (when --out was not given)."""
+    return "--out" if out is not None else "the default output folder (choose one with --out)"
+
+
+def check_out(path: Path, out=None) -> None:
+    """Refuse, before any work, an output folder that cannot be made or replaced (a name too long,
+    a parent that is a file, a folder that is not writable) or holds files groundres did not
+    write. ``out``: the --out given (None: ``path`` is the default)."""
     from ..errors import OutputFolderError
     from ..results.folders import check_output_folder
 
     try:
-        check_output_folder(path)
+        check_output_folder(path, out_name(out))
     except OutputFolderError as err:
         fail_user(str(err))
 
@@ -191,8 +198,8 @@ def out_option(default: str):
         "out",
         type=click.Path(file_okay=False),
         default=None,
-        help=f"Output folder, replaced whole by this run; refused if it holds other files "
-        f"[default: {default}].",
+        help=f"Output folder, replaced whole by this run; refused before any work if it holds other "
+        f"files or cannot be written or replaced [default: {default}].",
     )
 
 

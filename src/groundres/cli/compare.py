@@ -17,6 +17,7 @@ from .common import (
     load,
     make_console,
     method_named,
+    out_name,
     out_option,
     output_dir,
     plain,
@@ -81,7 +82,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
     loaded = [load(case, named=True) for case in cases]
     check_reference(loaded[0], speed_axis, "the first case")
     out_dir = output_dir(cases[0], out, "compare")
-    check_out(out_dir)
+    check_out(out_dir, out)
     warm = warm_plotting()
     asked = [f"{Path(case).stem}" + (f" --method {m}" if m else "") for case in cases for m in methods]
 
@@ -95,7 +96,7 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
         plot["modes"] = check_modes(modes, comparison.labels, "a mode of any entry")
         check_scale(*(e.result for e in comparison.entries), speed_axis=speed_axis)
         rows = comparison.differences()
-        with steps.step("Writing results"), folders.output_folder(out_dir) as folder:
+        with steps.step("Writing results"), folders.output_folder(out_dir, out_name(out)) as folder:
             for entry in comparison.entries:
                 files.write_json(folder / f"summary-{entry.number}.json", entry.result.summary())
             files.write_differences(comparison, folder, rows)

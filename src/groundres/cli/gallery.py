@@ -7,7 +7,7 @@ import shlex
 import click
 
 from ..errors import shown
-from .common import FORMAT, Steps, check_out, fail_user, invocation, make_console, out_option, plain
+from .common import FORMAT, Steps, check_out, fail_user, invocation, make_console, out_name, out_option, plain
 
 
 def parse_figures(text: str | None) -> tuple[int, ...]:
@@ -64,7 +64,7 @@ def command(out, fmt, figures):
     out_dir = Path(out) if out is not None else Path("groundres-out") / "gallery"
     if out is not None and not out.strip():
         fail_user(f"--out {shown(out)}: empty; give a folder, e.g. --out gallery")
-    check_out(out_dir)
+    check_out(out_dir, out)
     from ..pages.gallery import build, gallery_page
     from ..results import files, folders
 
@@ -73,7 +73,7 @@ def command(out, fmt, figures):
         steps("figures", 0, len(numbers))
         data, pictures = build(numbers, fmt, progress=lambda done, total: steps("figures", done, total))
         meta = invocation()
-        with steps.step("page"), folders.output_folder(out_dir) as folder:
+        with steps.step("page"), folders.output_folder(out_dir, out_name(out)) as folder:
             for name, content in pictures.items():
                 files.write_bytes(folder / name, content)
             files.write_json(folder / "gallery.json", data["json"])

@@ -16,6 +16,7 @@ from .common import (
     fail_user,
     invocation,
     make_console,
+    out_name,
     out_option,
     output_dir,
     plain,
@@ -64,7 +65,7 @@ def command(case, speed, labels, gif, scale, out, fmt):
     console = make_console()
     the_case, w = case_at_speed(case, speed)
     out_dir = output_dir(case, out, "phasors")
-    check_out(out_dir)
+    check_out(out_dir, out)
     with Steps(console, STAGES) as steps, contextlib.ExitStack() as stack:
         result = analyze(
             the_case,
@@ -86,7 +87,7 @@ def command(case, speed, labels, gif, scale, out, fmt):
             f" ({w / the_case.sweep.reference:.3g} ref)" if the_case.sweep.reference else ""
         )
         report, rows = {}, []
-        folder = stack.enter_context(folders.output_folder(out_dir))
+        folder = stack.enter_context(folders.output_folder(out_dir, out_name(out)))
         for label in labels:
             shape = result.mode(label, w)
             slug = label.replace(" ", "-")

@@ -18,6 +18,7 @@ from .common import (
     load,
     make_console,
     method_named,
+    out_name,
     output_dir,
 )
 from .plotoptions import check_modes, check_reference, check_scale, parse_limits, plot_options
@@ -73,7 +74,7 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
     the_case = load(case)
     check_reference(the_case, speed_axis)
     out_dir = output_dir(case, out)
-    check_out(out_dir)
+    check_out(out_dir, out)
     warm = warm_plotting()
     from ..analysis import analyze
     from ..results import folders
@@ -84,7 +85,7 @@ def command(case, out, frame, method, damping_ratio, speed_axis, frequency_limit
             result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
-        with steps.step("write"), folders.output_folder(out_dir) as folder:
+        with steps.step("write"), folders.output_folder(out_dir, out_name(out)) as folder:
             summary = result.summary()  # (once: written, and printed below)
             _write_all(result, summary, folder, plot, warm, fmt)
             folders.write_provenance(

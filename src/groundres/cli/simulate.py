@@ -13,6 +13,7 @@ from .common import (
     fail_user,
     invocation,
     make_console,
+    out_name,
     out_option,
     output_dir,
     plain,
@@ -57,7 +58,7 @@ def command(case, speed, duration, initial, out, fmt):
     values = _initial_values(initial)
     the_case, w = case_at_speed(case, speed)
     out_dir = output_dir(case, out, "simulate")
-    check_out(out_dir)
+    check_out(out_dir, out)
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}
     given = {
@@ -75,7 +76,7 @@ def command(case, speed, duration, initial, out, fmt):
             fail_user(f"{option} = {given.get(err.key) or shown(err.value)}: {err.allowed}")
         steps("integrate", sim.time[-1], sim.time[-1])
         growth = sim.growth_rate()
-        with steps.step("write"), folders.output_folder(out_dir) as folder:
+        with steps.step("write"), folders.output_folder(out_dir, out_name(out)) as folder:
             files.write_figure(sim.plot(), folder / f"simulation.{fmt}")
             files.write_simulation_csv(sim, folder / "simulation.csv")
             folders.write_provenance(

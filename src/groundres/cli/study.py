@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import stat
 import time
 from pathlib import Path
 
@@ -33,28 +35,67 @@ def parse_vary(items) -> dict:
 
 
 def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
-    """Refuse a folder that holds files a study did not write, or another study's (nothing
-    is mixed in)."""
-    if out.exists() and not out.is_dir():
-        fail_user(f"--out {str(out)!r}: exists and is not a folder")
+    """Refuse, before any cluster starts, a folder a study cannot write (a name too long, a parent
+    that is a file, a folder that is not writable, an unreadable file in it) or one that holds
+    files a study did not write, or another study's (nothing is mixed in)."""
+    from ..errors import CaseError, OutputFolderError, shown_path
+    from ..model.casefile import MAX_CASE_BYTES, read_file
+    from ..results.folders import check_folder
+
+    label = f"--out {shown_path(out)}"
+    try:
+        exists = check_folder(out, "--out", replace=False)
+    except OutputFolderError as err:
+        fail_user(str(err))
+    if not exists:
+        return
     copy = out / "case.toml"
-    if copy.is_file() and copy.read_text(encoding="utf-8", errors="replace") != case_text:
-        fail_user(f"--out {str(out)!r}: holds a study of another case; give another folder")
+    if os.path.lexists(copy):
+        try:
+            text = read_file(copy, f"{label}: its case.toml", MAX_CASE_BYTES).decode(
+                "utf-8", errors="replace"
+            )
+        except CaseError as err:
+            fail_user(f"{err}; give another folder")
+        if text != case_text:
+            fail_user(f"{label}: holds a study of another case; give another folder")
     other = "study.zarr" if boundary else "boundary.nc"
-    if (out / other).exists():
+    if os.path.lexists(out / other):
         kind = "grid study" if boundary else "boundary search"
-        fail_user(f"--out {str(out)!r}: holds a {kind}; give another folder for this one")
+        fail_user(f"{label}: holds a {kind}; give another folder for this one")
     for name in ("study.nc", *sorted(MAP_FILES), "boundary.nc", "case.toml", "provenance.json"):
         if (out / name).is_dir():
-            fail_user(f"--out {str(out)!r}: {name} there is a folder; give another folder")
-    if out.is_dir():
-        strangers = sorted(
-            p.name for p in out.iterdir() if p.name not in STUDY_FILES and not p.name.endswith(".partial")
-        )
-        if strangers:
+            fail_user(f"{label}: {name} there is a folder; give another folder")
+    strangers = sorted(
+        p.name for p in out.iterdir() if p.name not in STUDY_FILES and not p.name.endswith(".partial")
+    )
+    if strangers:
+        fail_user(f"{label}: holds files no study wrote ({', '.join(strangers[:3])}); give another folder")
+    _check_store(out / "study.zarr", label)
+
+
+def _check_store(store: Path, label: str) -> None:
+    """Refuse a study's store that a resumed study could not read and write: not a folder, or a
+    folder of its top two levels (the store and its arrays) not readable, writable and searchable."""
+    from ..model.casefile import file_type
+
+    if not os.path.lexists(store):
+        return
+    folders = [store]
+    if store.is_dir() and os.access(store, os.R_OK | os.X_OK):
+        folders += sorted(p for p in store.iterdir() if p.is_dir() and not p.is_symlink())
+    for folder in folders:
+        try:
+            mode = os.stat(folder).st_mode
+        except OSError as err:
+            fail_user(f"{label}: {folder.name} cannot be read ({err.strerror or err}); give another folder")
+        if not stat.S_ISDIR(mode):
+            fail_user(f"{label}: {folder.name} there is {file_type(mode)}, not a folder (a study's store)")
+        if not os.access(folder, os.R_OK | os.W_OK | os.X_OK):
+            where = "study.zarr" if folder == store else f"study.zarr/{folder.name}"
             fail_user(
-                f"--out {str(out)!r}: holds files no study wrote ({', '.join(strangers[:3])}); "
-                "give another folder"
+                f"{label}: {where} there is not writable (a resumed study writes into it); make it "
+                "writable or give another folder"
             )
 
 
@@ -81,7 +122,7 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
     required=True,
     type=click.Path(file_okay=False),
     help="Study folder: study.zarr (kept chunk by chunk: the same command resumes an interrupted "
-    "study), study.nc and map.<format>.",
+    "study), study.nc and map.<format>; refused before any work if it cannot be written.",
 )
 @click.option(
     "--workers",

@@ -49,6 +49,7 @@ def atomic_path(path: str | Path):
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".part" + path.suffix)
     os.close(fd)
     try:
+        os.chmod(tmp, 0o600)  # (writable by its writer whatever the umask; its mode is set below)
         yield Path(tmp)
         os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
