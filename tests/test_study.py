@@ -509,3 +509,17 @@ def test_a_study_beyond_its_time_limit_is_refused_before_any_cluster_with_its_es
     with pytest.raises(StudyError, match="more than --max-hours 0.001"):
         cost.check(est, hours=0.001)
     cost.check(est, hours=1.0)
+
+
+def test_more_local_workers_than_the_machine_can_run_are_refused(tmp_path, monkeypatch):
+    """--workers 512 on a two-core machine started hundreds of processes; the local cluster is
+    held to four workers a core, refused before any work with the limit and the way to more."""
+    from groundres.cli import study as cli_study
+
+    monkeypatch.setattr(cli_study, "_client", lambda *a: pytest.fail("a cluster was started"))
+    limit = cli_study.most_workers()
+    args = ["study", "hammond-1974", "--vary", "rotor.lag_damping=1000:3000:2", "--out", str(tmp_path / "o")]
+    result = CliRunner().invoke(main, [*args, "--workers", str(limit + 1)])
+    assert result.exit_code == 2
+    assert f"--workers {limit + 1}: at most {limit}" in " ".join(result.output.split())
+    assert not (tmp_path / "o").exists()

@@ -193,6 +193,11 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
         fail_user(f"--boundary {shown(boundary)}: must be one of the --vary keys ({', '.join(grid.keys)})")
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
+    if workers is not None and workers > most_workers():
+        fail_user(
+            f"--workers {workers}: at most {most_workers()} on this machine ({os.cpu_count()} cores; each "
+            "worker is a process computing on one core, so more only share them); use --scheduler for more"
+        )
     if scheduler is not None and dashboard:
         fail_user("--dashboard: only for the local cluster; an existing cluster (--scheduler) has its own")
     check_study_folder(out_dir, the_case.text, boundary is not None)
@@ -233,6 +238,11 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
         _report_boundary(console, ds, grid, out_dir, seconds, fmt)
     if memory:
         console.print(_memory_text(memory))
+
+
+def most_workers() -> int:
+    """The most local workers a study may start: four per core of this machine (at least 2)."""
+    return max(2, 4 * (os.cpu_count() or 1))
 
 
 def _started(the_case, grid, left, boundary, scheduler, workers, dashboard, max_hours):
