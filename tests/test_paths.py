@@ -584,3 +584,33 @@ def test_report_study_that_is_a_file_or_not_a_study(tmp_path):
     (study / "provenance.json").unlink()
     result, elapsed = cli("report", "--study", study, "--out", tmp_path / "r")
     refused(result, elapsed, "not the --out folder of a groundres study (it has no provenance.json)")
+
+
+def test_a_case_file_whose_name_is_no_utf8_runs_and_is_recorded_escaped(tmp_path):
+    """A file name the file system gives as bytes that are no UTF-8 (c\\xff\\xfe.toml) made
+    run and compare fail (exit 1) writing NetCDF attributes; its name is recorded with the
+    bytes escaped."""
+    if sys.platform == "darwin":
+        pytest.skip("the file system takes UTF-8 names only")
+    name = os.fsdecode(b"c\xff\xfe.toml")
+    case = tmp_path / name
+    case.write_text(HAMMOND_TOML)
+    result = CliRunner().invoke(main, ["run", str(case), "--out", str(tmp_path / "r")])
+    assert result.exit_code == 0, result.output
+    provenance = json.loads((tmp_path / "r" / "provenance.json").read_text())
+    assert provenance["case"]["source"].endswith("c\\xff\\xfe.toml")
+
+
+def test_an_empty_shipped_case_name_is_refused():
+    result = CliRunner().invoke(main, ["cases", ""])
+    assert result.exit_code == 2 and "no such shipped case" in result.output
+
+
+@pytest.mark.parametrize("port", ["-1", "0", "70000"])
+def test_a_scheduler_port_out_of_range_is_named(tmp_path, port):
+    args = ["study", "hammond-1974", "--vary", "rotor.lag_damping=1000:3000:2"]
+    result = CliRunner().invoke(
+        main, [*args, "--scheduler", f"tcp://127.0.0.1:{port}", "--out", str(tmp_path / "o")]
+    )
+    assert result.exit_code == 2
+    assert f"port {port}: a port is a whole number from 1 to 65535" in " ".join(result.output.split())

@@ -19,7 +19,7 @@ def command(name):
 
     shipped = shipped_cases()
     console = make_console()
-    if name:
+    if name is not None:
         if name not in shipped:
             fail_user(f"case {shown(name)}: no such shipped case; choose one of {', '.join(shipped)}")
         click.echo(shipped[name], nl=False)

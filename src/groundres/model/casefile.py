@@ -42,6 +42,13 @@ def shipped_cases() -> dict[str, str]:
     }
 
 
+def source_name(path) -> str:
+    """A file's name as text every output can hold: bytes that are no UTF-8 (a name the file
+    system gave as such) written as their escapes (``\\xff``), since NetCDF attributes, JSON
+    and TOML take only valid Unicode."""
+    return os.fsencode(path).decode("utf-8", "backslashreplace")
+
+
 def case_text(path_or_name: str | Path) -> tuple[str, str]:
     """(text, source) of a case file, or of a shipped case by name; CaseError where there is none.
 
@@ -54,7 +61,7 @@ def case_text(path_or_name: str | Path) -> tuple[str, str]:
     except (OSError, ValueError) as err:
         mode, problem = None, err
     if mode is not None and stat.S_ISREG(mode):
-        return _read_text(Path(given)), given
+        return _read_text(Path(given)), source_name(given)
     shipped = shipped_cases()
     name = given.removesuffix(".toml")
     if name in shipped:

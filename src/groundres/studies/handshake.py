@@ -49,6 +49,8 @@ def check_scheduler(address: str, seconds: float) -> float:
         target = parse_host_port(where) if scheme == "tcp" else None
     except ValueError as err:
         raise ValueError(f"not an address such as tcp://host:8786 ({err})") from None
+    if target is not None and not 0 < target[1] < 65536:
+        raise ValueError(f"port {target[1]}: a port is a whole number from 1 to 65535")
     started = time.monotonic()
     state = {"step": "connect", "last": None}
     loop = asyncio.new_event_loop()
