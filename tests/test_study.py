@@ -523,3 +523,40 @@ def test_more_local_workers_than_the_machine_can_run_are_refused(tmp_path, monke
     assert result.exit_code == 2
     assert f"--workers {limit + 1}: at most {limit}" in " ".join(result.output.split())
     assert not (tmp_path / "o").exists()
+
+
+def test_two_studies_into_one_folder_at_once_both_finish(tmp_path):
+    """Two identical studies started at once into one folder wrote study.nc through one shared
+    temporary name, and one failed (exit 1, PermissionError); each now writes its own."""
+    import subprocess
+    import sys
+
+    case = tmp_path / "case.toml"
+    case.write_text(HAMMOND_TOML)
+    args = [
+        sys.executable,
+        "-m",
+        "groundres.cli",
+        "study",
+        str(case),
+        "--vary",
+        "rotor.lag_damping=1000:3000:2",
+    ]
+    runs = [
+        subprocess.Popen(
+            [*args, "--workers", "1", "--out", str(tmp_path / "out")],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for _ in range(2)
+    ]
+    outputs = [run.communicate(timeout=120) for run in runs]
+    assert [run.returncode for run in runs] == [0, 0], outputs
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "case.toml",
+        "map.png",
+        "provenance.json",
+        "study.nc",
+        "study.zarr",
+    ]

@@ -67,7 +67,11 @@ def check_study_folder(out: Path, case_text: str, boundary: bool) -> None:
         if (out / name).is_dir():
             fail_user(f"{label}: {name} there is a folder; give another folder")
     strangers = sorted(
-        p.name for p in out.iterdir() if p.name not in STUDY_FILES and not p.name.endswith(".partial")
+        p.name
+        for p in out.iterdir()
+        if p.name not in STUDY_FILES
+        and not p.name.endswith(".partial")
+        and not p.name.startswith(".study.nc.")
     )
     if strangers:
         fail_user(f"{label}: holds files no study wrote ({', '.join(strangers[:3])}); give another folder")

@@ -15,7 +15,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import os
 import warnings
 from pathlib import Path
 
@@ -188,7 +187,7 @@ def load(path: Path) -> xr.Dataset:
 
 def write_netcdf(ds: xr.Dataset, path: Path) -> None:
     """The study as NetCDF, whole or not at all (written beside, then renamed)."""
-    path = Path(path)
-    partial = path.with_name(path.name + ".partial")
-    ds.to_netcdf(partial)
-    os.replace(partial, path)
+    from ..results.files import atomic_path
+
+    with atomic_path(path) as partial:  # (a name of its own: two studies at once never share it)
+        ds.to_netcdf(partial)
