@@ -560,3 +560,17 @@ def test_two_studies_into_one_folder_at_once_both_finish(tmp_path):
         "study.nc",
         "study.zarr",
     ]
+
+
+def test_a_boundary_along_a_range_of_one_value_is_refused_before_any_work(tmp_path, monkeypatch):
+    """--boundary along a key of one value was refused only after the cluster had started and
+    the folder been made; it is refused first, leaving nothing."""
+    from groundres.cli import study as cli_study
+
+    monkeypatch.setattr(cli_study, "_client", lambda *a: pytest.fail("a cluster was started"))
+    args = ["study", "hammond-1974", "--vary", "rotor.lag_damping=1000:1000:1"]
+    result = CliRunner().invoke(
+        main, [*args, "--boundary", "rotor.lag_damping", "--out", str(tmp_path / "o")]
+    )
+    assert result.exit_code == 2 and "needs two different ends" in result.output
+    assert not (tmp_path / "o").exists()

@@ -192,9 +192,9 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     if not out.strip():
         fail_user(f"--out {out!r}: empty; give a folder, e.g. --out study")
     out_dir = Path(out)
-    boundary = canonical(boundary) if boundary is not None else None
-    if boundary is not None and boundary not in grid.keys:
+    if boundary is not None and canonical(boundary) not in grid.keys:
         fail_user(f"--boundary {shown(boundary)}: must be one of the --vary keys ({', '.join(grid.keys)})")
+    boundary = study.boundary_key(grid, boundary) if boundary is not None else None  # (before any work)
     if scheduler is not None and workers is not None:
         fail_user("--workers: only for the local cluster; an existing cluster (--scheduler) has its own")
     if workers is not None and workers > most_workers():

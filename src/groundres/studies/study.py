@@ -112,15 +112,9 @@ def boundary(
 
     case = with_points(case, points)
     grid = make_grid(case, vary, failures)
-    key = canonical(key)
-    if key not in grid.keys:
-        raise StudyError(f"--boundary {key}: must be one of the varied keys ({', '.join(grid.keys)})")
+    key = boundary_key(grid, key)
     i = grid.keys.index(key)
     along = grid.values[i]
-    if len(along) < 2 or along[0] == along[-1]:
-        raise StudyError(
-            f"--boundary {key}: its range needs two different ends (START:STOP:COUNT, COUNT >= 2)"
-        )
     others = Grid(grid.keys[:i] + grid.keys[i + 1 :], grid.values[:i] + grid.values[i + 1 :], grid.failures)
     span = (float(along[0]), float(along[-1]), float(np.abs(np.diff(along)).min()))
     flats = np.arange(others.size)
@@ -159,6 +153,20 @@ def boundary(
         "groundres_version": __version__,
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def boundary_key(grid: Grid, key: str) -> str:
+    """``key`` as the grid names it, where a boundary can be searched along it (StudyError
+    otherwise: not a varied key, or a range without two different ends)."""
+    key = canonical(key)
+    if key not in grid.keys:
+        raise StudyError(f"--boundary {key}: must be one of the varied keys ({', '.join(grid.keys)})")
+    along = grid.values[grid.keys.index(key)]
+    if len(along) < 2 or along[0] == along[-1]:
+        raise StudyError(
+            f"--boundary {key}: its range needs two different ends (START:STOP:COUNT, COUNT >= 2)"
+        )
+    return key
 
 
 def finished(case, vary: dict, failures: str | None, out, points=None) -> bool:
