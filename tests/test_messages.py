@@ -493,3 +493,26 @@ def test_the_console_escapes_whatever_is_printed_through_it():
     text = terminal.file.getvalue()
     assert "\x1b[1m" in text and text.count("\\x1b]0;pwned") == 2
     assert "\x07" not in text and "\x9b" not in text and "\x1b]" not in text
+
+
+def test_equations_of_a_huge_rigid_mass_print_it_without_overflow(tmp_path):
+    """equations rounded the body matrices by scaling them by 1e10: [body] mass = 1e300 printed an
+    overflow warning (and would have shown inf); the value is shown as it is."""
+    import subprocess
+    import sys
+
+    from groundres import load_case
+
+    text = load_case("light-helicopter-skids").text
+    case = tmp_path / "m.toml"
+    case.write_text(
+        "\n".join("mass = 1e300" if line.startswith("mass =") else line for line in text.splitlines())
+    )
+    run = subprocess.run(
+        [sys.executable, "-W", "error", "-m", "groundres.cli", "equations", str(case)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0 and run.stderr == "", run.stderr
+    assert "1.0e+300" in run.stdout

@@ -614,3 +614,23 @@ def test_a_scheduler_port_out_of_range_is_named(tmp_path, port):
     )
     assert result.exit_code == 2
     assert f"port {port}: a port is a whole number from 1 to 65535" in " ".join(result.output.split())
+
+
+def test_an_out_path_far_over_path_max_is_refused_at_once(tmp_path):
+    """An --out of 100,000 bytes ('o/' x 50,000) took 8 GiB while its parents were listed; it is
+    refused from its length before it is resolved."""
+    started = time.perf_counter()
+    result = CliRunner().invoke(main, ["run", "hammond-1974", "--out", "o/" * 50000])
+    assert result.exit_code == 2 and "far over the 4096" in " ".join(result.output.split())
+    assert time.perf_counter() - started < 5
+
+
+def test_an_out_that_is_no_utf8_is_recorded_escaped(tmp_path):
+    """gallery --out with bytes that are no UTF-8 failed (exit 1) writing the command line into
+    its page; the command line is recorded with those bytes escaped."""
+    if sys.platform == "darwin":
+        pytest.skip("the file system takes UTF-8 names only")
+    out = tmp_path / os.fsdecode(b"g\xff\x9b")
+    result = CliRunner().invoke(main, ["gallery", "--figures", "3", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "g\\xff\\x9b" in (out / "index.html").read_text(encoding="utf-8")

@@ -27,14 +27,28 @@ SHOWN_LENGTH = 60
 def printable(text, keep: str = "\n") -> str:
     """``text`` with every control character (C0, DEL and C1) but those in ``keep`` written
     as its escape (``\\x1b``), so that no user text can drive a terminal (a title's
-    ``ESC ] 0 ; ... BEL`` would set its window title, ``ESC [ 2 J`` clear it)."""
+    ``ESC ] 0 ; ... BEL`` would set its window title, ``ESC [ 2 J`` clear it); and a byte of a
+    file name that is no UTF-8 (a lone surrogate, which no output can encode) as ``\\xff``."""
     text = str(text)
-    if all(ch in keep or unicodedata.category(ch) != "Cc" for ch in text):
+    if all(ch in keep or unicodedata.category(ch) not in _ESCAPED for ch in text):
         return text
     return "".join(
-        ch if ch in keep or unicodedata.category(ch) != "Cc" else ch.encode("unicode_escape").decode()
-        for ch in text
+        ch if ch in keep or unicodedata.category(ch) not in _ESCAPED else _escape(ch) for ch in text
     )
+
+
+#: Unicode categories :func:`printable` escapes: controls, and the lone surrogates of bytes
+#: that are no UTF-8.
+_ESCAPED = ("Cc", "Cs")
+
+
+def _escape(ch: str) -> str:
+    if unicodedata.category(ch) == "Cs":  # (a byte the file system gave: its escape)
+        try:
+            return ch.encode("utf-8", "surrogateescape").decode("ascii", "backslashreplace")
+        except UnicodeEncodeError:  # (a surrogate no byte gave)
+            return f"\\u{ord(ch):04x}"
+    return ch.encode("unicode_escape").decode()
 
 
 def shown(value) -> str:

@@ -147,8 +147,13 @@ def method_named():
 
 def invocation() -> dict:
     """The command line and start time of this run (for provenance.json)."""
+    from ..model.casefile import source_name
+
     meta = click.get_current_context().meta
-    return {"argv": meta.get("groundres.argv", []), "started": meta.get("groundres.started", "")}
+    # (an argument the file system gave as bytes that are no UTF-8: its bytes escaped, as every
+    # output takes only valid Unicode)
+    argv = [source_name(arg) for arg in meta.get("groundres.argv", [])]
+    return {"argv": argv, "started": meta.get("groundres.started", "")}
 
 
 def case_at_speed(case: str | None, speed: float):

@@ -108,7 +108,11 @@ def _numeric_parts(case, show) -> None:
     from ..model.system import System
 
     def matrix(values):
-        return show(sp.Matrix(np.round(values, 10).tolist()).applyfunc(lambda v: sp.Float(v, 6)))
+        values = np.asarray(values, float)
+        with np.errstate(over="ignore", invalid="ignore"):  # (rounding scales by 1e10: a huge value
+            rounded = np.round(values, 10)  # would overflow, and is kept as it is)
+        values = np.where(np.isfinite(rounded), rounded, values)
+        return show(sp.Matrix(values.tolist()).applyfunc(lambda v: sp.Float(v, 6)))
 
     if case.body.form == "rigid":
         click.echo(

@@ -111,6 +111,11 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
     text = os.fspath(path)
     if "\0" in text:
         raise OutputFolderError(f"{label}: not a usable folder name (it holds a NUL character)")
+    if _size(text) > FAR * PATH_MAX:  # (no file system takes it; resolving it costs its length squared)
+        raise OutputFolderError(
+            f"{label}: its path is {_size(text)} bytes long, far over the {PATH_MAX} a path may have "
+            "(PATH_MAX); choose a shorter one"
+        )
     try:
         real = Path(os.path.realpath(text))
     except FileNotFoundError:  # (a relative path, from a current folder since removed)
@@ -158,6 +163,10 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
         _check_writable(label, real.parent, "cannot be replaced: ")
         _check_sticky(label, real, status)
     return True
+
+
+#: A path this many times :data:`PATH_MAX` long is refused before it is resolved.
+FAR = 4
 
 
 def _size(text: str) -> int:
