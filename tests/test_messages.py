@@ -516,3 +516,35 @@ def test_equations_of_a_huge_rigid_mass_print_it_without_overflow(tmp_path):
     )
     assert run.returncode == 0 and run.stderr == "", run.stderr
     assert "1.0e+300" in run.stdout
+
+
+def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path):
+    """A gear leg's stiffness_z = 1.797e308 overflowed in the legs' matrix (two warnings on the
+    terminal before the message); the leg is named with no warning."""
+    import subprocess
+    import sys
+
+    from groundres import load_case
+
+    text = load_case("light-helicopter-skids").text
+    case = tmp_path / "g.toml"
+    case.write_text(text.replace("stiffness_z =", "stiffness_z = 1.7976931348623157e+308 #", 1))
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-W",
+            "error",
+            "-m",
+            "groundres.cli",
+            "run",
+            str(case),
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.startswith("error: [[body.gear]] 1: stiffness_z = 1.797"), run.stderr
+    assert "Warning" not in run.stderr

@@ -266,7 +266,10 @@ class Body:
         each leg's own ``kind``_axis if given."""
         keep = [BODY_DOFS.index(d) for d in self.dofs]
         value = value or (lambda leg, a: getattr(leg, f"{kind}_{a}"))
-        total = sum(leg.along(*(value(leg, a) for a in "xyz")) for leg in self.gear)
+        # (a value near the largest float times a lever overflows: the caller finds the matrix
+        # unusable and names the leg, so the overflow itself is no warning)
+        with np.errstate(over="ignore", invalid="ignore"):
+            total = sum(leg.along(*(value(leg, a) for a in "xyz")) for leg in self.gear)
         return total[np.ix_(keep, keep)]
 
     def _spread_error(self, kind: str) -> ParameterError:
@@ -284,7 +287,8 @@ class Body:
         key = f"{kind}_{axis}"
         others = max(v for _, m, a, v in given if (m, a) != (n, axis))
         large = math.log10(value) > middle
-        values = np.linalg.eigvalsh(self._leg_matrix(kind))
+        matrix = self._leg_matrix(kind)
+        values = np.linalg.eigvalsh(matrix) if np.isfinite(matrix).all() else np.zeros(1)  # (overflowed)
         ratio = max(values.min(), 0.0) / max(abs(values).max(), 1e-300)
         if ratio > 0:  # (the value that would leave the smallest eigenvalue resolved, with a margin)
             guess = value * (ratio / (10 * SINGULAR) if large else 10 * SINGULAR / ratio)
@@ -403,6 +407,8 @@ class Body:
 def _resolved(matrix: np.ndarray) -> bool:
     """Whether a symmetric positive semi-definite ``matrix`` has every eigenvalue above
     :data:`SINGULAR` of its largest (none lost to round-off)."""
+    if not np.isfinite(matrix).all():  # (a value that overflowed: nothing is resolved)
+        return False
     values = np.linalg.eigvalsh(matrix)
     return bool(values.min() > SINGULAR * max(np.abs(values).max(), 1e-300))
 
