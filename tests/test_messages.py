@@ -548,3 +548,36 @@ def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path
     assert run.returncode == 2, run.stderr
     assert run.stderr.startswith("error: [[body.gear]] 1: stiffness_z = 1.797"), run.stderr
     assert "Warning" not in run.stderr
+
+
+def test_a_leg_damping_near_the_largest_float_is_named_without_overflow(tmp_path):
+    """A gear leg's damping_z = 1e308 overflowed in the body's isotropy test (a warning before
+    the message); the leg is named with no warning."""
+    import subprocess
+    import sys
+
+    from groundres import load_case
+
+    text = load_case("light-helicopter-skids").text
+    at = text.rindex("damping_z =")
+    case = tmp_path / "d.toml"
+    case.write_text(text[:at] + "damping_z = 1e308 #" + text[at + len("damping_z =") :])
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-W",
+            "error",
+            "-m",
+            "groundres.cli",
+            "run",
+            str(case),
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.startswith("error: [[body.gear]] 4: damping_z = 1e+308"), run.stderr
+    assert "Warning" not in run.stderr

@@ -372,8 +372,12 @@ class Body:
             return False
         turn = self.turn(1.0)
         mats = self.matrices()
+        if not np.isfinite(mats).all():  # (a value that overflowed: the checks of the case say which)
+            return False
         scale = max(np.abs(mats).max(), 1e-300)
-        return bool(np.abs(turn.T @ mats @ turn - mats).max() <= 1e-12 * scale)
+        with np.errstate(over="ignore", invalid="ignore"):  # (near the largest float: not alike)
+            turned = turn.T @ mats @ turn
+        return bool(np.isfinite(turned).all() and np.abs(turned - mats).max() <= 1e-12 * scale)
 
     def _hub_off_axis(self) -> bool:
         """The hub away from the vertical through the pivot, where the body turns: then the
