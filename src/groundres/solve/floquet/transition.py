@@ -199,7 +199,8 @@ def estimated_steps(system: System, speeds, angle: float, rate=None, tolerance=T
     """
     rate = (rates_per_radian(system, speeds) if rate is None else rate) + HARMONIC_RATE
     loose = (TOLERANCE / tolerance) ** (1 / ESTIMATE_ORDER)
-    return np.maximum(LEAST_STEPS, STEPS_FACTOR * loose * (angle * rate) ** (9 / 8))
+    with np.errstate(over="ignore"):  # (a rate near the largest float needs more steps than any: inf)
+        return np.maximum(LEAST_STEPS, STEPS_FACTOR * loose * (angle * rate) ** (9 / 8))
 
 
 def divisor_at_least(count: int, need: int) -> int:
