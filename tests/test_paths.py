@@ -634,3 +634,14 @@ def test_an_out_that_is_no_utf8_is_recorded_escaped(tmp_path):
     result = CliRunner().invoke(main, ["gallery", "--figures", "3", "--out", str(out)])
     assert result.exit_code == 0, result.output
     assert "g\\xff\\x9b" in (out / "index.html").read_text(encoding="utf-8")
+
+
+def test_a_lock_file_that_is_a_folder_is_refused_before_any_work(tmp_path, monkeypatch):
+    """The lock file runs share beside their output folders, made a folder, failed the run after
+    its work (exit 1, IsADirectoryError); it is refused first, naming it."""
+    (tmp_path / ".groundres.lock").mkdir()
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(main, ["run", "hammond-1974", "--out", "out"])
+    assert result.exit_code == 2
+    assert "lock file" in result.output and "not a regular file" in result.output
+    assert not (tmp_path / "out").exists()

@@ -138,6 +138,8 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
         if not stat.S_ISDIR(status.st_mode):
             raise OutputFolderError(f"{label}: cannot be made: {shown_path(nearest)} is {_kind(status)}")
         _check_writable(label, nearest, "cannot be made: ")
+        if nearest == real.parent:
+            _check_lock(nearest)
         return False
     if not stat.S_ISDIR(status.st_mode):
         raise OutputFolderError(f"{label}: exists and is {_kind(status)}")
@@ -161,6 +163,7 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
                 f"inside it, e.g. --out {inside}"
             )
         _check_writable(label, real.parent, "cannot be replaced: ")
+        _check_lock(real.parent)
         _check_sticky(label, real, status)
     return True
 
@@ -372,6 +375,29 @@ def _remove_stale(parent: Path) -> None:
             _remove(Path(entry.path))
 
 
+def _lock_problem(lock: Path, err: OSError) -> str:
+    return (
+        f"the lock file {shown_path(lock)} that runs writing beside each other share cannot be opened "
+        f"({err.strerror or err}); remove it or choose another --out"
+    )
+
+
+def _check_lock(parent: Path) -> None:
+    """OutputFolderError where the lock file in ``parent`` exists but cannot serve (a folder, a
+    file that cannot be written), found before any work."""
+    lock = parent / _LOCK
+    if not os.path.lexists(lock):
+        return
+    try:
+        status = os.stat(lock)
+    except OSError as err:
+        raise OutputFolderError(_lock_problem(lock, err)) from None
+    if not stat.S_ISREG(status.st_mode):
+        raise OutputFolderError(_lock_problem(lock, IsADirectoryError(0, "not a regular file")))
+    if not os.access(lock, os.W_OK):
+        raise OutputFolderError(_lock_problem(lock, PermissionError(0, "not writable")))
+
+
 @contextlib.contextmanager
 def _locked(parent: Path):
     """An exclusive lock for swapping folders in ``parent`` (a lock file, removed after)."""
@@ -382,7 +408,10 @@ def _locked(parent: Path):
         return
     lock = parent / _LOCK
     while True:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NONBLOCK, 0o666)
+        except OSError as err:  # (a folder, a file made immutable, another's file there)
+            raise OutputFolderError(_lock_problem(lock, err)) from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX)
             try:
