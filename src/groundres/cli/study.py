@@ -15,7 +15,9 @@ from .common import FIGURE_FORMATS, FORMAT, fail_user, invocation, load, make_co
 #: The map in each format --format offers.
 MAP_FILES = {f"map.{fmt}" for fmt in FIGURE_FORMATS}
 #: What a study folder may hold: a folder with anything else is refused.
-STUDY_FILES = {"study.zarr", "study.nc", "boundary.nc", *MAP_FILES, "case.toml", "provenance.json"}
+#: The lock a study holds on its folder while it writes there (two at once would mix).
+LOCK = ".groundres-study.lock"
+STUDY_FILES = {"study.zarr", "study.nc", "boundary.nc", *MAP_FILES, "case.toml", "provenance.json", LOCK}
 
 
 def parse_vary(items) -> dict:
@@ -215,6 +217,7 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     except OSError as err:
         _close(client)
         fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
+    held = _hold(out_dir, client)  # noqa: F841 - (held until this process ends)
     if client is not None and dashboard:
         console.print(f"Dask dashboard: {client.dashboard_link}", markup=False)
     started = time.perf_counter()
@@ -242,6 +245,30 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
         _report_boundary(console, ds, grid, out_dir, seconds, fmt)
     if memory:
         console.print(_memory_text(memory))
+
+
+def _hold(out_dir: Path, client):
+    """An exclusive lock on the study's folder (its open file), or exit 2 where another study
+    writes there now: two studies into one folder at once would mix their files."""
+    try:
+        import fcntl
+    except ImportError:  # (no flock: Windows)
+        return None
+    try:
+        fd = os.open(out_dir / LOCK, os.O_RDWR | os.O_CREAT | os.O_NONBLOCK, 0o600)
+    except OSError as err:
+        _close(client)
+        fail_user(f"--out {shown(str(out_dir))}: its lock {LOCK} cannot be opened ({err.strerror or err})")
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        _close(client)
+        fail_user(
+            f"--out {shown(str(out_dir))}: another study is writing there now; wait for it to end "
+            "(this one then resumes from its store) or choose another folder"
+        )
+    return fd
 
 
 def most_workers() -> int:

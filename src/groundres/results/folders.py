@@ -30,6 +30,7 @@ from pathlib import Path
 
 from ..errors import OutputFolderError, shown, shown_path
 from ..model.casefile import file_type, read_file
+from . import lock
 from .files import current_umask, strict, write_bytes, write_json
 
 #: The file that marks a folder as groundres output (and lists its files).
@@ -44,7 +45,6 @@ ROOM = 256
 #: Largest provenance.json read [bytes]; it lists a folder's files and the software.
 MAX_PROVENANCE_BYTES = 16_000_000
 _HIDDEN = ".groundres-"
-_LOCK = ".groundres.lock"
 #: Hidden folders of a run in progress: new (being written), old (being replaced) and the probe
 #: of whether a parent is writable.
 _STAGING = re.compile(r"\.groundres-(new|old|probe)-(\d+)-[a-z0-9_]+(-.*)?", re.DOTALL)
@@ -139,7 +139,7 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
             raise OutputFolderError(f"{label}: cannot be made: {shown_path(nearest)} is {_kind(status)}")
         _check_writable(label, nearest, "cannot be made: ")
         if nearest == real.parent:
-            _check_lock(nearest)
+            lock.check(nearest)
         return False
     if not stat.S_ISDIR(status.st_mode):
         raise OutputFolderError(f"{label}: exists and is {_kind(status)}")
@@ -163,7 +163,7 @@ def check_folder(path: str | Path, name: str = "output folder", *, replace: bool
                 f"inside it, e.g. --out {inside}"
             )
         _check_writable(label, real.parent, "cannot be replaced: ")
-        _check_lock(real.parent)
+        lock.check(real.parent)
         _check_sticky(label, real, status)
     return True
 
@@ -302,7 +302,7 @@ def output_folder(path: str | Path, name: str = "output folder"):
                 raise _unwritable(f"{name} {shown_path(path)}", target.parent, err) from None
         yield fresh
         os.chmod(fresh, 0o777 & ~current_umask())
-        with _signals_deferred(), _locked(target.parent):
+        with _signals_deferred(), lock.locked(target.parent):
             _remove_stale(target.parent)
             _swap(fresh, target, path, name)
         done = True
@@ -373,63 +373,6 @@ def _remove_stale(parent: Path) -> None:
         match = _STAGING.fullmatch(entry.name)
         if match and entry.is_dir(follow_symlinks=False) and not _alive(int(match[2])):
             _remove(Path(entry.path))
-
-
-def _lock_problem(lock: Path, err: OSError) -> str:
-    return (
-        f"the lock file {shown_path(lock)} that runs writing beside each other share cannot be opened "
-        f"({err.strerror or err}); remove it or choose another --out"
-    )
-
-
-def _check_lock(parent: Path) -> None:
-    """OutputFolderError where the lock file in ``parent`` exists but cannot serve (a folder, a
-    file that cannot be written), found before any work."""
-    lock = parent / _LOCK
-    if not os.path.lexists(lock):
-        return
-    try:
-        status = os.stat(lock)
-    except OSError as err:
-        raise OutputFolderError(_lock_problem(lock, err)) from None
-    if not stat.S_ISREG(status.st_mode):
-        raise OutputFolderError(_lock_problem(lock, IsADirectoryError(0, "not a regular file")))
-    if not os.access(lock, os.W_OK):
-        raise OutputFolderError(_lock_problem(lock, PermissionError(0, "not writable")))
-
-
-@contextlib.contextmanager
-def _locked(parent: Path):
-    """An exclusive lock for swapping folders in ``parent`` (a lock file, removed after)."""
-    try:
-        import fcntl
-    except ImportError:  # no flock (Windows): swaps are not serialised
-        yield
-        return
-    lock = parent / _LOCK
-    while True:
-        try:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NONBLOCK, 0o666)
-        except OSError as err:  # (a folder, a file made immutable, another's file there)
-            raise OutputFolderError(_lock_problem(lock, err)) from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX)
-            try:
-                same = os.stat(lock).st_ino == os.fstat(fd).st_ino
-            except FileNotFoundError:
-                same = False
-            if same:
-                break  # (else the holder before removed the file: lock the new one)
-        except BaseException:
-            os.close(fd)
-            raise
-        os.close(fd)
-    try:
-        yield
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(lock)
-        os.close(fd)
 
 
 @contextlib.contextmanager
