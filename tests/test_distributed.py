@@ -164,15 +164,7 @@ def test_the_cluster_imports_nothing_from_the_folder_the_study_is_started_in(tmp
         (here / f"{name}.py").write_text(f"open({str(tmp_path / (name + '.imported'))!r}, 'w').close()\n")
     (here / "case.toml").write_text(SMALL)
     args = ["study", "case.toml", "--vary", "rotor.lag_damping=2000:4000:2", "--workers", "2", "--out", "out"]
-    proc = subprocess.Popen(
-        [str(GROUNDRES), *args],
-        cwd=here,
-        env=environment(),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
+    proc = start_groundres(args, here)
     try:
         out, err = proc.communicate(timeout=120)
     finally:
@@ -261,9 +253,14 @@ def test_a_scheduler_address_where_something_else_answers_is_refused_in_bounded_
 
 def start_study(tmp_path, *more) -> subprocess.Popen:
     args = ["study", "hammond-1974", "--vary", "rotor.lag_damping=1000:9000:40", "--out", "out", *more]
+    return start_groundres(args, tmp_path)
+
+
+def start_groundres(args, cwd) -> subprocess.Popen:
+    """The groundres console script with ``args`` in ``cwd``, in a session of its own, its output piped."""
     return subprocess.Popen(
         [str(GROUNDRES), *args],
-        cwd=tmp_path,
+        cwd=cwd,
         env=environment(),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,

@@ -518,18 +518,14 @@ def test_equations_of_a_huge_rigid_mass_print_it_without_overflow(tmp_path):
     assert "1.0e+300" in run.stdout
 
 
-def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path):
-    """A gear leg's stiffness_z = 1.797e308 overflowed in the legs' matrix (two warnings on the
-    terminal before the message); the leg is named with no warning."""
+def _run_strict(tmp_path, text: str):
+    """``groundres run`` of the case ``text`` with every warning an error (subprocess)."""
     import subprocess
     import sys
 
-    from groundres import load_case
-
-    text = load_case("light-helicopter-skids").text
-    case = tmp_path / "g.toml"
-    case.write_text(text.replace("stiffness_z =", "stiffness_z = 1.7976931348623157e+308 #", 1))
-    run = subprocess.run(
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    return subprocess.run(
         [
             sys.executable,
             "-W",
@@ -545,6 +541,15 @@ def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path
         text=True,
         timeout=120,
     )
+
+
+def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path):
+    """A gear leg's stiffness_z = 1.797e308 overflowed in the legs' matrix (two warnings on the
+    terminal before the message); the leg is named with no warning."""
+    from groundres import load_case
+
+    text = load_case("light-helicopter-skids").text
+    run = _run_strict(tmp_path, text.replace("stiffness_z =", "stiffness_z = 1.7976931348623157e+308 #", 1))
     assert run.returncode == 2, run.stderr
     assert run.stderr.startswith("error: [[body.gear]] 1: stiffness_z = 1.797"), run.stderr
     assert "Warning" not in run.stderr
@@ -553,31 +558,11 @@ def test_a_leg_stiffness_at_the_largest_float_is_named_without_overflow(tmp_path
 def test_a_leg_damping_near_the_largest_float_is_named_without_overflow(tmp_path):
     """A gear leg's damping_z = 1e308 overflowed in the body's isotropy test (a warning before
     the message); the leg is named with no warning."""
-    import subprocess
-    import sys
-
     from groundres import load_case
 
     text = load_case("light-helicopter-skids").text
     at = text.rindex("damping_z =")
-    case = tmp_path / "d.toml"
-    case.write_text(text[:at] + "damping_z = 1e308 #" + text[at + len("damping_z =") :])
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-W",
-            "error",
-            "-m",
-            "groundres.cli",
-            "run",
-            str(case),
-            "--out",
-            str(tmp_path / "o"),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+    run = _run_strict(tmp_path, text[:at] + "damping_z = 1e308 #" + text[at + len("damping_z =") :])
     assert run.returncode == 2, run.stderr
     assert run.stderr.startswith("error: [[body.gear]] 4: damping_z = 1e+308"), run.stderr
     assert "Warning" not in run.stderr

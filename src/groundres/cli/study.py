@@ -217,7 +217,7 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     except OSError as err:
         _close(client)
         fail_user(f"--out {str(out_dir)!r}: cannot be made ({err.strerror or err})")
-    held = _hold(out_dir, client)  # noqa: F841 - (held until this process ends)
+    _hold(out_dir, client)  # (held until the command ends)
     if client is not None and dashboard:
         console.print(f"Dask dashboard: {client.dashboard_link}", markup=False)
     started = time.perf_counter()
@@ -268,6 +268,7 @@ def _hold(out_dir: Path, client):
             f"--out {shown(str(out_dir))}: another study is writing there now; wait for it to end "
             "(this one then resumes from its store) or choose another folder"
         )
+    click.get_current_context().call_on_close(lambda: os.close(fd))  # (released as the command ends)
     return fd
 
 
