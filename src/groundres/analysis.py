@@ -142,7 +142,7 @@ def analyze(
         floor=floor,
         rough_growth=stability.rough_growth_of(solver),
     )
-    between = _growing_between(solver, speeds, assessed, method)
+    between = _growing_between(solver, speeds, assessed)
     report("range ends", 1, 1)
     accuracy = {
         **solver.accuracy(),
@@ -194,7 +194,7 @@ def analyze(
     return result
 
 
-def _growing_between(solver, speeds, assessed, method) -> dict:
+def _growing_between(solver, speeds, assessed) -> dict:
     """(start, end) -> {label: root at the peak} of the modes that grow at the peak of each
     unstable range holding none of the sweep's speeds, identified at that speed on their own (a
     cheap analysis of one speed): the sweep's modes, interpolated across such a range, could
@@ -223,7 +223,10 @@ def _least_between(result):
     interpolated across the range, may lead the refinement to another root or harmonic."""
     assessed = result.stability
     least = assessed.min_damping_ratio
-    inside = lambda w: any(a <= w <= b for a, b in result.between)  # noqa: E731
+
+    def inside(w):
+        return any(a <= w <= b for a, b in result.between)
+
     candidates = [
         (x.value, x.speed)
         for m in result.margins.modes

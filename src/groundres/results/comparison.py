@@ -378,33 +378,33 @@ def _rows(entry, base: SweepResult, other: SweepResult) -> list[dict]:
     (va, wa), (vb, wb) = ((r.margins.growth_margin or (None, None))[:2] for r in (base, other))
     neutral = neutral_max(base), neutral_max(other)
     threshold = float(growth_threshold(_largest(wa, wb)))
-    rows.append(_row(entry, "growth_margin", va, vb, threshold, round_off=all(neutral)))
-    rows.append(
-        _row(
-            entry,
-            "growth_margin_speed",
-            wa,
-            wb,
-            MARGIN_SPEED_ROUND_OFF * _largest(wa, wb),
-            note=_neutral_note(neutral, "growth margin"),
-            round_off=all(neutral),
-        )
-    )
+    rows += _extreme_rows(entry, "growth_margin", (va, wa), (vb, wb), threshold, neutral, "growth margin")
     (za, xa), (zb, xb) = ((r.margins.least("operating") or (None, None))[:2] for r in (base, other))
     zero = za == 0.0, zb == 0.0  # (a neutral least: round-off, where it lies is no result)
     rows.append(_row(entry, "least_damping_ratio", za, zb, DAMPING_RATIO_ROUND_OFF))
-    rows.append(
-        _row(
-            entry,
-            "least_damping_ratio_speed",
-            xa,
-            xb,
-            MARGIN_SPEED_ROUND_OFF * _largest(xa, xb),
-            note=_neutral_note(zero, "least damping ratio"),
-            round_off=all(zero),
-        )
-    )
+    rows.append(_speed_row(entry, "least_damping_ratio", xa, xb, zero, "least damping ratio"))
     return rows
+
+
+def _extreme_rows(entry, name, a, b, round_off, neutral, what) -> list:
+    """The rows of an extreme and of where it lies, ``a`` and ``b`` (value, speed) each."""
+    return [
+        _row(entry, name, a[0], b[0], round_off, round_off=all(neutral)),
+        _speed_row(entry, name, a[1], b[1], neutral, what),
+    ]
+
+
+def _speed_row(entry, name, wa, wb, neutral, what):
+    """The row of where an extreme lies (``name``_speed), no result where both are round-off."""
+    return _row(
+        entry,
+        f"{name}_speed",
+        wa,
+        wb,
+        MARGIN_SPEED_ROUND_OFF * _largest(wa, wb),
+        note=_neutral_note(neutral, what),
+        round_off=all(neutral),
+    )
 
 
 def _neutral_note(neutral, what: str) -> str | None:
