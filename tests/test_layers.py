@@ -158,7 +158,10 @@ def test_no_import_cycles():
 @pytest.mark.parametrize("name, path", list(modules()), ids=lambda x: x if isinstance(x, str) else "")
 def test_modules_stay_small_and_define_what_they_hold(name, path):
     text = path.read_text(encoding="utf-8")
-    assert text.count("\n") <= MAX_LINES, f"{name}: {text.count(chr(10))} lines; split it by concept"
+    generated = name.startswith("symbolic.generated_")  # (one derivation's code, written by codegen)
+    assert generated or text.count("\n") <= MAX_LINES, (
+        f"{name}: {text.count(chr(10))} lines; split it by concept"
+    )
     tree = ast.parse(text)
     body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
     defines = [n for n in body if not isinstance(n, (ast.Import, ast.ImportFrom))]

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..methods import OPTIONS
+from .aero import Aero
 from .body import Body
 from .units import SPEED_UNITS
 from .validate import finite, non_negative, positive
@@ -114,11 +115,15 @@ class Rotor:
     dampers : tuple of Damper
         Lag damper rods (:mod:`groundres.model.dampers`), besides each blade's own
         rotational ``lag_damping``.
+    aero : Aero or None
+        The blades' aerodynamics (:mod:`groundres.model.aero`): the rotor in air,
+        linearised about its hover trim; None (the default): in vacuum.
     """
 
     blades: tuple
     flap: bool = False
     dampers: tuple = ()
+    aero: Aero | None = None
 
     def __post_init__(self):
         if not 2 <= len(self.blades) <= MAX_BLADES:
@@ -127,6 +132,8 @@ class Rotor:
         offsets = [b.hinge_offset for b in self.blades]
         for damper in self.dampers:
             damper.check(offsets, len(self.blades))
+        if self.aero is not None:
+            self.aero.check_hinges(offsets)
 
     @classmethod
     def uniform(cls, n_blades: int, blade: Blade, flap: bool = False) -> Rotor:

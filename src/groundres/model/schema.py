@@ -8,14 +8,16 @@ is allowed; unknown keys get the nearest valid key suggested.
 from __future__ import annotations
 
 import difflib
+import math
 from pathlib import Path
 
 from ..errors import CaseError, ParameterError, shown
+from .aero import DEGREE_KEYS, INFLOWS, Aero
 from .body import BODY_DOFS, LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Body, Leg
 from .casefile import LARGEST_NUMBER_TEXT, case_text, toml_data
 from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
 from .params import BLADE_KEYS, Blade, Case, Rotor, Sweep
-from .units import SPEED_UNITS
+from .units import AERO_UNITS, SPEED_UNITS
 from .validate import finite
 
 _NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
@@ -35,6 +37,7 @@ SCHEMA = {
         "rotor": _TABLE,
         "body": _TABLE,
         "sweep": _TABLE,
+        "aero": _TABLE,
     },
     "rotor": {
         "blades": _INT,
@@ -62,6 +65,7 @@ SCHEMA = {
         "gear": _TABLES,
     },
     "body.gear": {k: _NUMBER for k in LEG_KEYS},
+    "aero": {**{k: _NUMBER for k in AERO_UNITS}, "inflow": _STR},
     "sweep": {
         "start": _NUMBER,
         "stop": _NUMBER,
@@ -82,6 +86,7 @@ REQUIRED = {
     "rotor.damper": ("kind",),
     "body.gear": ("position_x", "position_y", "position_z"),
     "sweep": ("start", "stop"),
+    "aero": ("lift_slope", "chord", "tip_radius"),
 }
 _DEFAULT_DOFS = ["x", "y"]
 
@@ -300,6 +305,59 @@ def _sweep(data: dict) -> Sweep:
         raise CaseError(f"[sweep] {err.key} = {shown(value)}: {allowed}") from None
 
 
+def _aero(data: dict, rotor: Rotor) -> Rotor:
+    """``rotor`` in the air of the ``[aero]`` table (its Lock number, if given, turned into the
+    air density with the inertia of the ``[rotor]`` blade)."""
+    _check_table("aero", data)
+    given = [k for k in ("air_density", "lock_number") if k in data]
+    if len(given) != 1:
+        what = "both are given" if given else "neither is given"
+        raise CaseError(
+            f"[aero] {' and '.join(given) or 'air_density'}: give the air density or the Lock number, "
+            f"one of the two ({what}; the other is derived)"
+        )
+    inflow = data.get("inflow", "uniform")
+    if inflow not in INFLOWS:
+        near = difflib.get_close_matches(inflow, INFLOWS, n=1, cutoff=0.5)
+        hint = f" (did you mean '{near[0]}'?)" if near else ""
+        raise CaseError(f"[aero] inflow = {shown(inflow)}: must be one of {list(INFLOWS)}{hint}")
+    if inflow == "dynamic":
+        raise CaseError(
+            '[aero] inflow = "dynamic": Pitt-Peters dynamic inflow is not available in this version yet; '
+            'use "uniform" (momentum inflow frozen at its trim value)'
+        )
+    values = {k: float(v) for k, v in data.items() if k not in ("inflow", "lock_number")}
+    for key in DEGREE_KEYS:
+        if key in values:
+            values[key] = math.radians(values[key])
+    values.setdefault("root_cutout", max(b.hinge_offset for b in rotor.blades))
+    if "lock_number" in data:
+        lock = float(data["lock_number"])
+        if not (finite(lock) and lock >= 0):
+            raise CaseError(
+                f"[aero] lock_number = {shown(data['lock_number'])}: must be a finite number >= 0"
+            )
+        for key in ("lift_slope", "chord", "tip_radius"):
+            if not values[key] > 0:
+                raise CaseError(f"[aero] {key} = {shown(data[key])}: must be a finite number > 0")
+        inertia = rotor.blades[0].blade_inertia
+        values["air_density"] = Aero.density_for_lock(
+            lock, values["lift_slope"], values["chord"], values["tip_radius"], inertia
+        )
+        if not finite(values["air_density"]):
+            raise CaseError(f"[aero] lock_number = {shown(data['lock_number'])}: too large for this blade")
+    try:
+        aero = Aero(inflow=inflow, lock_given="lock_number" in data, **values)
+    except ParameterError as err:
+        value = data.get(err.key, err.value)
+        raise CaseError(f"[aero] {err.key} = {shown(value)}: {err.allowed}") from None
+    try:
+        return Rotor(blades=rotor.blades, flap=rotor.flap, dampers=rotor.dampers, aero=aero)
+    except ParameterError as err:
+        value = data.get(err.key, err.value)
+        raise CaseError(f"[aero] {err.key} = {shown(value)}: {err.allowed}") from None
+
+
 def parse_case(data: dict, source: str = "", text: str = "") -> Case:
     """Build a Case from the parsed TOML tables (``text``: the file they came from).
 
@@ -309,10 +367,13 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
         With a one-line message naming the key, the value and what is allowed.
     """
     _check_table("", data)
+    rotor = _rotor(data["rotor"])
+    if "aero" in data:
+        rotor = _aero(data["aero"], rotor)
     return _build(
         "[sweep] ",  # the one check of the whole case is the size of the sweep
         Case,
-        rotor=_rotor(data["rotor"]),
+        rotor=rotor,
         body=_body(data["body"]),
         sweep=_sweep(data["sweep"]),
         title=data.get("title", Path(source).stem if source else "groundres case"),

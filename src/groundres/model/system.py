@@ -13,8 +13,9 @@ from functools import cached_property
 
 import numpy as np
 
-from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function
+from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function, generated
 from . import dampers, mbc
+from . import trim as trim_module
 from .body import BODY_DOFS, Body
 from .mbc import Coordinate
 from .params import Rotor
@@ -78,6 +79,7 @@ class System:
         own = ~((rows < self.n_body) & (cols < self.n_body))
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
+        self._trims = {}
         #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
         #: with damping, or all of them where none has.
         self.working = working(self.damper_values(every=True))
@@ -113,16 +115,43 @@ class System:
         speeds = np.asarray(speeds, dtype=float)
         sel = (slice(None),) + np.ix_(range(3), range(5), self._local, self._local)
 
-        def one(blade):
+        aero = self.rotor.aero
+        trim = self.trim(speeds) if aero is not None else None
+
+        def one(k):
+            blade = self.rotor.blades[k]
             values = {name: getattr(blade, name) for name in BLADE_ARGUMENTS if hasattr(blade, name)}
             hub = {k: getattr(self.body, k) for k in ("hub_height", "hub_x", "hub_y")}
-            arrays = blade_function()(speeds, **hub, **values)
+            if aero is None:
+                arrays = blade_function()(speeds, **hub, **values)
+            else:
+                arrays = generated("blade_in_air")(
+                    speeds,
+                    **hub,
+                    **values,
+                    **trim_module.aero_arguments(aero),
+                    **trim_module.moments(blade, aero),
+                    inflow_ratio=trim.inflow_ratio,
+                    coning=trim.coning[:, k],
+                    trim_lag=trim.trim_lag[:, k],
+                )
             return np.moveaxis(arrays, -1, 0)[sel]
 
         if self.rotor.blades_alike:
-            first = one(self.rotor.blades[0])
+            first = one(0)
             return np.broadcast_to(first[:, None], (len(speeds), self.n_blades) + first.shape[1:])
-        return np.stack([one(b) for b in self.rotor.blades], axis=1)
+        return np.stack([one(k) for k in range(self.n_blades)], axis=1)
+
+    def trim(self, speeds) -> trim_module.Trim:
+        """The hover trim at ``speeds`` [rad/s] of a rotor in air (:mod:`groundres.model.trim`;
+        thrust and torque in SI), kept for the last few sweeps asked."""
+        speeds = np.asarray(speeds, dtype=float)
+        key = speeds.tobytes()
+        if key not in self._trims:
+            if len(self._trims) >= 4:
+                self._trims.pop(next(iter(self._trims)))
+            self._trims[key] = trim_module.solve_trim(self.rotor, self.body, speeds, self.mass_unit.kg)
+        return self._trims[key]
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""

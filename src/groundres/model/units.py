@@ -99,6 +99,20 @@ OTHER_UNITS = {
     "hub_y": "m",
     "mass": "kg",
 }
+#: Units of the ``[aero]`` keys.
+AERO_UNITS = {
+    "air_density": "kg/m^3",
+    "lock_number": "1",
+    "lift_slope": "1/rad",
+    "drag_coefficient": "1",
+    "chord": "m",
+    "tip_radius": "m",
+    "root_cutout": "m",
+    "collective": "deg",
+    "twist": "deg",
+    "pitch_flap": "1",
+    "pitch_lag": "1",
+}
 _TRANSLATIONS = ("x", "y", "z")
 
 
@@ -111,6 +125,8 @@ def key_unit(key: str, sweep_unit: str = "rad/s") -> str:
         return sweep_unit
     if key.startswith("rotor.damper"):
         return ROD_UNITS.get(name, "m")
+    if key.startswith("aero."):
+        return AERO_UNITS.get(name, "")
     if name.startswith(("position_", "centre_", "start_", "end_")):
         return "m"
     if name in BLADE_UNITS:
@@ -172,7 +188,8 @@ class MassUnit:
         changes = _divided(body, self.kg, body_keys)
         changes["gear"] = tuple(_by_mass(leg, self.kg) for leg in body.gear)
         dampers = tuple(_by_mass(d, self.kg) for d in rotor.dampers)
-        return replace(rotor, blades=blades, dampers=dampers), replace(body, **changes)
+        air = rotor.aero and replace(rotor.aero, air_density=rotor.aero.air_density / self.kg)
+        return replace(rotor, blades=blades, dampers=dampers, aero=air), replace(body, **changes)
 
     def from_si(self, value):
         """A mass-like value [SI] in this unit."""

@@ -143,6 +143,9 @@ class _TimeInvariant(Solver):
         factor 4 of its own matrices' round-off, at any spread of speeds).
         """
         speeds = np.asarray(speeds, dtype=float)
+        if self.system.rotor.aero is not None:
+            # In air the trim changes with the speed: no polynomial in Omega holds the matrices.
+            return self.form(speeds)
         with np.errstate(divide="ignore"):
             band = np.exp2(np.ceil(np.log2(np.maximum(speeds, 1e-300))))
         m0 = self._fit(float(band[0]))[0] if len(speeds) else self._fit(1.0)[0]

@@ -2,7 +2,7 @@
 
 The derivations (:mod:`groundres.symbolic.derive`) take tens of seconds,
 so it does not run when groundres is used. The project runs it once and
-commits its result as two generated modules of the package:
+commits its result as three generated modules of the package:
 
 ``generated_numpy.py``
     ``blade_harmonics``, the harmonic coefficient matrices as NumPy
@@ -10,16 +10,21 @@ commits its result as two generated modules of the package:
     :func:`blade_function`; likewise ``rigid_body_mass``, ``leg_matrix``,
     ``rod_to_hub`` and ``rod_to_blade`` (:func:`generated`) for a body on
     gear legs and damper rods.
+``generated_air.py``
+    ``blade_in_air`` and ``trim_in_air`` (:mod:`groundres.symbolic.aero`): one
+    blade's equations in air about its hover trim, and the trim loads, NumPy
+    only (long, so imported only for a case in air; the tests check them
+    against the derivation at random parameters);
 ``generated_sympy.py``
     the same matrices as SymPy expressions in plain source, rebuilt by
     :func:`blade_equations` and :func:`symbolic` for ``groundres equations``
     and the tests.
 
 Nothing is read from a cache, imported from a user folder or evaluated from
-text: both modules are ordinary package code. After editing ``derive.py``
+text: all three modules are ordinary package code. After editing ``derive.py``
 (or the printing below), regenerate them from a source checkout with
 
-    python -m groundres.symbolic.codegen           # rewrite the two modules
+    python -m groundres.symbolic.codegen           # rewrite the three modules
     python -m groundres.symbolic.codegen --check   # exit 1 if they are stale
 
 ``tests/test_codegen.py`` derives afresh and fails if the committed modules
@@ -47,11 +52,17 @@ BLADE_ARGUMENTS = (
     "flap_stiffness",
     "flap_damping",
 )
+#: The span's moments the functions in air take (:data:`groundres.symbolic.aero.SPAN_SYMBOLS`):
+#: int rho^k d rho over the lifting span, rho the distance from the hinge [m^(k+1)].
+SPAN_ARGUMENTS = tuple(f"span_moment_{k}" for k in range(5))
 #: Groups of the coefficient arrays, in order.
 GROUPS = ("mass", "damping", "stiffness")
 #: The generated modules, next to this file.
 NUMPY_MODULE = "generated_numpy.py"
 SYMPY_MODULE = "generated_sympy.py"
+#: The blade in air and its trim, NumPy only (long: imported only for a case in air).
+AIR_MODULE = "generated_air.py"
+AIR_FUNCTIONS = ("blade_in_air", "trim_in_air")
 _HERE = Path(__file__).resolve().parent
 
 # Generated code is neither formatted nor linted by ruff: its text must stay
@@ -62,7 +73,7 @@ _PRAGMAS = ("# fmt: off", "# ruff: noqa")
 def _functions():
     """name -> (symbol dict of its arguments (name -> symbol, in order), shape of its array,
     derivation): every generated function (the blade's first)."""
-    from . import derive
+    from . import aero, derive
 
     return {
         "blade_harmonics": (
@@ -74,6 +85,26 @@ def _functions():
         "leg_matrix": (derive.LEG_SYMBOLS, (6, 6), derive.derive_leg),
         "rod_to_hub": (_rod_symbols(to_hub=True), (2,), lambda: derive.derive_rod(True)),
         "rod_to_blade": (_rod_symbols(to_hub=False), (4,), lambda: derive.derive_rod(False)),
+        "blade_in_air": (
+            {
+                "rotor_speed": derive.rotor_speed,
+                **derive.BLADE_SYMBOLS,
+                **aero.AERO_SYMBOLS,
+                **aero.SPAN_SYMBOLS,
+            },
+            (3, 5, len(derive.LOCAL_DOFS), len(derive.LOCAL_DOFS)),
+            aero.derive_blade_in_air,
+        ),
+        "trim_in_air": (
+            {
+                "rotor_speed": derive.rotor_speed,
+                **derive.BLADE_SYMBOLS,
+                **aero.AERO_SYMBOLS,
+                **aero.SPAN_SYMBOLS,
+            },
+            (len(aero.TRIM_LOADS), 1 + len(aero.TRIM_UNKNOWNS)),
+            aero.derive_trim,
+        ),
     }
 
 
@@ -102,6 +133,10 @@ def generated(name: str):
     ``rod_to_hub`` (2,), ``rod_to_blade`` (4,) (:mod:`groundres.symbolic.derive`), each
     taking its arguments by keyword (broadcastable arrays, SI) and returning its array
     with the broadcast shape last."""
+    if name in AIR_FUNCTIONS:
+        from . import generated_air
+
+        return getattr(generated_air, name)
     from . import generated_numpy
 
     return getattr(generated_numpy, name)
@@ -137,7 +172,7 @@ def symbolic(name: str):
 
 def _as_array(name: str, derived):
     """(index, expression) of every nonzero entry of a derivation's result, in index order."""
-    if name == "blade_harmonics":
+    if name in ("blade_harmonics", "blade_in_air"):
         return [
             ((g, h, i, j), matrix[i, j])
             for g, group in enumerate(GROUPS)
@@ -186,17 +221,22 @@ def _header(what: str) -> list[str]:
     ]
 
 
-def numpy_source(derived: dict) -> str:
-    """Source of ``generated_numpy.py``: one NumPy function per derivation."""
+def numpy_source(derived: dict, air: bool = False) -> str:
+    """Source of ``generated_numpy.py`` (or, ``air``, ``generated_air.py``): one NumPy
+    function per derivation."""
     import sympy as sp
     from sympy.printing.numpy import NumPyPrinter
 
     printer = NumPyPrinter({"fully_qualified_modules": True, "inline": True})
-    lines = [
-        *_header("Derived matrices (blade equations, rigid body, gear leg, damper rods) as NumPy code."),
-        "import numpy",
-    ]
+    what = (
+        "One blade's equations in air about its hover trim, and the trim loads, as NumPy code."
+        if air
+        else "Derived matrices (blade equations, rigid body, gear leg, damper rods) as NumPy code."
+    )
+    lines = [*_header(what), "import numpy"]
     for name, (symbols, shape, _) in _functions().items():
+        if (name in AIR_FUNCTIONS) != air:
+            continue
         entries = _nonzero(name, derived[name])
         shared, reduced = sp.cse([expr for _, expr in entries], symbols=sp.numbered_symbols("t_"))
         args = ", ".join(symbols)
@@ -238,10 +278,14 @@ def sympy_source(derived: dict) -> str:
 
     printer = SourcePrinter({"order": None})
     tables = {
-        id(getattr(derive, t)): t for t in ("BLADE_SYMBOLS", "RIGID_SYMBOLS", "LEG_SYMBOLS", "ROD_SYMBOLS")
+        f"{module.__name__.rpartition('.')[2]}.{t}": getattr(module, t)
+        for module, names in ((derive, ("BLADE_SYMBOLS", "RIGID_SYMBOLS", "LEG_SYMBOLS", "ROD_SYMBOLS")),)
+        for t in names
     }
     functions = []
     for name, (symbols, _, _) in _functions().items():
+        if name in AIR_FUNCTIONS:
+            continue
         body = [
             f"        ({index}, {printer.doprint(expr)})," for index, expr in _nonzero(name, derived[name])
         ]
@@ -250,12 +294,8 @@ def sympy_source(derived: dict) -> str:
             if arg == "rotor_speed":
                 binds.append("    rotor_speed = derive.rotor_speed")
                 continue
-            table = next(
-                t
-                for i, t in tables.items()
-                if arg in getattr(derive, t) and getattr(derive, t)[arg] == symbol
-            )
-            binds.append(f'    {arg} = derive.{table}["{arg}"]')
+            table = next(t for t, values in tables.items() if values.get(arg) == symbol)
+            binds.append(f'    {arg} = {table}["{arg}"]')
         functions += [
             "",
             "",
@@ -282,7 +322,11 @@ def sympy_source(derived: dict) -> str:
 def generated_sources(derived: dict | None = None) -> dict[str, str]:
     """File name -> text of the two generated modules (derives if not given)."""
     derived = derive_all() if derived is None else derived
-    return {NUMPY_MODULE: numpy_source(derived), SYMPY_MODULE: sympy_source(derived)}
+    return {
+        NUMPY_MODULE: numpy_source(derived),
+        SYMPY_MODULE: sympy_source(derived),
+        AIR_MODULE: numpy_source(derived, air=True),
+    }
 
 
 def main(argv=None) -> int:

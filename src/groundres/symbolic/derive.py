@@ -154,14 +154,8 @@ def _harmonics(expr):
     )
 
 
-def derive_blade() -> BladeEquations:
-    """Derive one blade's linear equations of motion with its body coupling.
-
-    Returns
-    -------
-    BladeEquations
-        Harmonic coefficient matrices of mass, damping and stiffness.
-    """
+def blade_kinetic():
+    """The exact kinetic energy of one rigid blade on the moving body (module docstring)."""
     x, y, z, theta, phi, chi, zeta, beta = COORDS
     p = BLADE_SYMBOLS
     ex = sp.Matrix([1, 0, 0])
@@ -176,11 +170,23 @@ def derive_blade() -> BladeEquations:
     span = hub_frame * sp.Matrix([sp.cos(beta) * sp.cos(zeta), -sp.cos(beta) * sp.sin(zeta), sp.sin(beta)])
     a_dot = hinge.applyfunc(_time_derivative)
     b_dot = span.applyfunc(_time_derivative)
-    kinetic = (
+    return (
         p["blade_mass"] * a_dot.dot(a_dot) / 2
         + p["blade_static_moment"] * a_dot.dot(b_dot)
         + p["blade_inertia"] * b_dot.dot(b_dot) / 2
     )
+
+
+def derive_blade() -> BladeEquations:
+    """Derive one blade's linear equations of motion with its body coupling.
+
+    Returns
+    -------
+    BladeEquations
+        Harmonic coefficient matrices of mass, damping and stiffness.
+    """
+    p = BLADE_SYMBOLS
+    kinetic = blade_kinetic()
     zero = {s: 0 for s in COORDS + RATES}
     grad_q = [kinetic.diff(q) for q in COORDS]
     grad_qd = [kinetic.diff(qd) for qd in RATES]

@@ -1,0 +1,226 @@
+"""The hover trim of a rotor in air, at every speed of a sweep at once.
+
+At each rotor speed the body is at rest, every blade holds still in the hub's
+axes at its coning and trim lag angles, and the inflow is uniform, from
+momentum theory (a rotor without flap has its flap hinge held at zero coning):
+the rotor's thrust T = rho pi R^2 (Omega R)^2 C_T with
+C_T = 2 lambda |lambda| (lambda the inflow ratio, positive down through the
+disk). The unknowns (each blade's coning and trim lag, and lambda) solve the
+blades' flap and lag equations and the momentum balance together, by
+Newton's method batched over the speeds, with the derivatives derived with
+the loads (:mod:`groundres.symbolic.aero`). Nothing divides by lambda, so a
+rotor at zero thrust (lambda = 0) trims like any other.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelRangeError
+from ..symbolic.codegen import BLADE_ARGUMENTS, SPAN_ARGUMENTS, generated
+
+#: Most Newton steps; the trim converges in a handful (quadratically).
+MAX_STEPS = 60
+#: Converged where no step moves an angle or lambda by more than this [rad, -].
+TOLERANCE = 1e-14
+#: Largest Newton step in an angle [rad] and in lambda: keeps the first steps sane.
+MAX_STEP = 0.2
+
+
+@dataclass(frozen=True)
+class Trim:
+    """A rotor's hover trim over a sweep (SI).
+
+    Attributes
+    ----------
+    rotor_speed : ndarray (n_s,)
+        [rad/s].
+    inflow_ratio : ndarray (n_s,)
+        lambda = v / (Omega R) [-], positive down through the disk.
+    coning, trim_lag : ndarray (n_s, N)
+        Each blade's flap and lag angle at the trim [rad] (lag against the rotation).
+    thrust, torque : ndarray (n_s,)
+        The rotor's thrust along the shaft [N] and the torque it asks of the shaft [N m].
+    thrust_coefficient : ndarray (n_s,)
+        C_T = T / (rho pi R^2 (Omega R)^2) = 2 lambda |lambda| [-].
+    solidity : float
+        sigma = N c / (pi R) [-].
+    """
+
+    rotor_speed: np.ndarray
+    inflow_ratio: np.ndarray
+    coning: np.ndarray
+    trim_lag: np.ndarray
+    thrust: np.ndarray
+    torque: np.ndarray
+    thrust_coefficient: np.ndarray
+    solidity: float
+
+    @property
+    def loading(self) -> np.ndarray:
+        """Blade loading C_T / sigma [-]."""
+        return self.thrust_coefficient / self.solidity
+
+
+def aero_arguments(aero) -> dict:
+    """The aerodynamic arguments of the generated functions (radians, the case's mass unit)."""
+    return {
+        k: getattr(aero, k)
+        for k in (
+            "air_density",
+            "lift_slope",
+            "drag_coefficient",
+            "chord",
+            "tip_radius",
+            "root_cutout",
+            "collective",
+            "twist",
+            "pitch_flap",
+            "pitch_lag",
+        )
+    }
+
+
+def blade_arguments(blade, body) -> dict:
+    """A blade's structural arguments of the generated functions, with its hub and span moments."""
+    values = {k: getattr(blade, k) for k in BLADE_ARGUMENTS if hasattr(blade, k)}
+    values.update({k: getattr(body, k) for k in ("hub_height", "hub_x", "hub_y")})
+    return values
+
+
+def moments(blade, aero) -> dict:
+    """The span's moments int rho^k d rho about a blade's hinge (rho from root_cutout - e to
+    tip_radius - e) [m^(k+1)], by their argument names (SPAN_ARGUMENTS)."""
+    low, high = aero.root_cutout - blade.hinge_offset, aero.tip_radius - blade.hinge_offset
+    return {name: (high ** (k + 1) - low ** (k + 1)) / (k + 1) for k, name in enumerate(SPAN_ARGUMENTS)}
+
+
+def solve_trim(rotor, body, speeds, unit_kg: float = 1.0) -> Trim:
+    """The hover trim of ``rotor`` (on ``body``, which stays at rest) at ``speeds`` [rad/s].
+
+    ``rotor`` and ``body`` are in a mass unit of ``unit_kg`` kg
+    (:class:`groundres.model.units.MassUnit`); the thrust and torque returned are SI.
+
+    Raises
+    ------
+    ModelRangeError
+        Where no trim is found (naming the speed): a blade with nothing to hold
+        its drag (no hinge offset, no lag spring), or loads beyond the model.
+    """
+    aero = rotor.aero
+    speeds = np.asarray(speeds, dtype=float)
+    n_s, n = speeds.size, rotor.n_blades
+    # Distinct blades trim on their own; alike ones share one trim.
+    kinds = list(dict.fromkeys(rotor.blades))
+    which = [kinds.index(b) for b in rotor.blades]
+    count = np.bincount(which, minlength=len(kinds)).astype(float)
+    fixed = {**aero_arguments(aero)}
+    per_kind = [{**blade_arguments(b, body), **moments(b, aero)} for b in kinds]
+    trim_loads = generated("trim_in_air")
+    k = len(kinds)
+    beta, zeta, lam = np.zeros((n_s, k)), np.zeros((n_s, k)), np.zeros(n_s)
+    spinning = speeds > 0
+    area = math.pi * aero.tip_radius**2
+    momentum = aero.air_density * area * (speeds * aero.tip_radius) ** 2  # T = momentum * C_T
+    live = spinning & (aero.air_density > 0)
+    active = np.flatnonzero(live)
+    loads = None
+    for _ in range(MAX_STEPS):
+        if active.size == 0:
+            break
+        w = speeds[active]
+        loads = [
+            trim_loads(
+                w,
+                **per_kind[j],
+                **fixed,
+                inflow_ratio=lam[active],
+                coning=beta[active, j],
+                trim_lag=zeta[active, j],
+            )
+            for j in range(k)
+        ]  # each (4, 4, m)
+        m = active.size
+        size = 2 * k + 1
+        residual = np.zeros((m, size))
+        jacobian = np.zeros((m, size, size))
+        thrust = np.zeros(m)
+        for j, value in enumerate(loads):
+            for row in range(2):
+                residual[:, 2 * j + row] = value[row, 0]
+                jacobian[:, 2 * j + row, 2 * j] = value[row, 1]
+                jacobian[:, 2 * j + row, 2 * j + 1] = value[row, 2]
+                jacobian[:, 2 * j + row, -1] = value[row, 3]
+            if not rotor.flap:  # the flap hinge held at zero: no coning
+                residual[:, 2 * j] = beta[active, j]
+                jacobian[:, 2 * j, :] = 0.0
+                jacobian[:, 2 * j, 2 * j] = 1.0
+            thrust += count[j] * value[2, 0]
+            jacobian[:, -1, 2 * j] = count[j] * value[2, 1]
+            jacobian[:, -1, 2 * j + 1] = count[j] * value[2, 2]
+            jacobian[:, -1, -1] += count[j] * value[2, 3]
+        l_now = lam[active]
+        residual[:, -1] = thrust - momentum[active] * 2 * l_now * np.abs(l_now)
+        jacobian[:, -1, -1] -= momentum[active] * 4 * np.abs(l_now)
+        with np.errstate(all="ignore"):
+            try:
+                step = np.linalg.solve(jacobian, -residual[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                step = np.full_like(residual, np.nan)
+        bad = ~np.isfinite(step).all(-1)
+        if bad.any():
+            _no_trim(speeds[active[bad][0]], rotor)
+        biggest = np.abs(step).max(-1)
+        step *= np.minimum(1.0, MAX_STEP / np.maximum(biggest, 1e-300))[:, None]
+        beta[active] += step[:, 0:-1:2]
+        zeta[active] += step[:, 1:-1:2]
+        lam[active] += step[:, -1]
+        scale = 1 + np.abs(np.concatenate([beta[active], zeta[active], lam[active, None]], axis=1)).max(-1)
+        active = active[biggest > TOLERANCE * scale]
+    else:
+        _no_trim(speeds[active[0]], rotor)
+    if (np.abs(beta) > math.pi / 2).any() or (np.abs(zeta) > math.pi / 2).any():
+        _no_trim(
+            speeds[
+                np.flatnonzero((np.abs(beta) > math.pi / 2).any(1) | (np.abs(zeta) > math.pi / 2).any(1))[0]
+            ],
+            rotor,
+        )
+    # Thrust and torque at the converged trim (zero where the rotor stands still or has no air).
+    thrust, torque = np.zeros(n_s), np.zeros(n_s)
+    if live.any():
+        w = speeds[live]
+        for j in range(k):
+            value = trim_loads(
+                w,
+                **per_kind[j],
+                **fixed,
+                inflow_ratio=lam[live],
+                coning=beta[live, j],
+                trim_lag=zeta[live, j],
+            )
+            thrust[live] += count[j] * value[2, 0]
+            torque[live] += count[j] * value[3, 0]
+    return Trim(
+        rotor_speed=speeds,
+        inflow_ratio=lam,
+        coning=beta[:, which],
+        trim_lag=zeta[:, which],
+        thrust=thrust * unit_kg,
+        torque=torque * unit_kg,
+        thrust_coefficient=2 * lam * np.abs(lam),
+        solidity=aero.solidity(n),
+    )
+
+
+def _no_trim(speed: float, rotor) -> None:
+    nothing_holds = any(b.hinge_offset == 0 and b.lag_stiffness == 0 for b in rotor.blades)
+    why = (
+        "a blade without hinge offset and lag spring has nothing to hold its drag"
+        if nothing_holds
+        else "the blades find no equilibrium within +-90 deg of flap and lag"
+    )
+    raise ModelRangeError(f"[aero]: no hover trim at {speed:.6g} rad/s: {why}")
