@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from groundres.errors import CaseError, MethodError
+from groundres.errors import CaseError
 from groundres.model.aero import Aero
 from groundres.model.body import Body
 from groundres.model.params import Blade, Rotor
@@ -362,16 +362,40 @@ def test_bad_aero_values_name_the_key(aero, words):
     assert words in str(err.value)
 
 
-def test_floquet_in_air_is_refused_with_a_reason():
-    from groundres.methods import choose_method
-
-    with pytest.raises(MethodError) as err:
-        choose_method(case_in_air(air_density=1.2), "floquet")
-    assert "in air" in str(err.value)
-
-
 def test_the_span_moments_keep_one_set_of_names():
     from groundres.symbolic.aero import SPAN_SYMBOLS
     from groundres.symbolic.codegen import SPAN_ARGUMENTS
 
     assert tuple(SPAN_SYMBOLS) == SPAN_ARGUMENTS
+
+
+def test_floquet_of_the_blade_equations_equals_multiblade_eigen_in_air():
+    """Identical blades in air (collective, pitch-lag coupling: coning and trim lag enter):
+    the Floquet exponents of the untransformed blade equations, each speed on its own trim,
+    equal the multiblade eigenvalues (real parts; frequencies modulo the rotor speed)."""
+    from groundres.solve.solvers import Floquet, Multiblade
+
+    case = case_in_air(air_density=1.225, drag_coefficient=0.01, collective=8.0, pitch_lag=-0.3)
+    system = System.in_mass_unit(case.rotor, case.body)
+    speeds = case.sweep.speeds
+    eigen, floquet = Multiblade(system).roots(speeds), Floquet(system).roots(speeds)
+    scale = np.abs(eigen.real).max()
+    np.testing.assert_allclose(np.sort(floquet.real, -1), np.sort(eigen.real, -1), rtol=0, atol=1e-9 * scale)
+    # every exponent is an eigenvalue shifted by a whole number of rotor speeds
+    for w, f_roots, e_roots in zip(speeds, floquet, eigen):
+        for root in f_roots:
+            shifts = (root.imag - e_roots.imag) / w
+            near = np.abs(e_roots.real - root.real) < 1e-8 * scale
+            assert (near & (np.abs(shifts - np.round(shifts)) < 1e-8)).any()
+
+
+def test_rotating_axes_equal_multiblade_in_air_on_an_isotropic_hub():
+    from groundres.solve.solvers import Multiblade, Rotating
+
+    blade = Blade(60.0, 132.0, 406.0, 0.5, lag_stiffness=21119.0, flap_stiffness=5074.0)
+    aero = Aero(1.225, 5.7, 0.35, 5.0, root_cutout=0.6, collective=0.1, twist=-0.12, pitch_flap=0.3)
+    system = System(rotor_in_air(blade, aero, n=3), HUB)
+    speeds = np.linspace(5.0, 40.0, 8)
+    one, other = Multiblade(system).roots(speeds), Rotating(system).roots(speeds)
+    scale = np.abs(one.real).max()
+    np.testing.assert_allclose(np.sort(other.real, -1), np.sort(one.real, -1), rtol=0, atol=1e-9 * scale)

@@ -177,6 +177,7 @@ def analyze(
         weights=solver.weights(speeds),
         accuracy=accuracy,
         between=between,
+        trim=solver.system.trim(speeds) if case.rotor.aero is not None else None,
     )
     report("margins", 0, None)
     result.margins = margins.margins(

@@ -78,13 +78,6 @@ def choose_method(case, option: str | None = None) -> Method:
     if option not in OPTIONS:
         raise MethodError(key, option, f"must be one of {list(OPTIONS)}")
     form = time_invariant(case)
-    if getattr(case.rotor, "aero", None) is not None and (option == "floquet" or form is None):
-        raise MethodError(
-            key,
-            option,
-            "Floquet analysis of a rotor in air is not available in this version yet; a rotor in air is "
-            "analysed by eigen-analysis (identical blades, N >= 3, or an isotropic body)",
-        )
     if option == "floquet":
         return Method.FLOQUET
     if option == "eigen" and form is None:

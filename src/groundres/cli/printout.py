@@ -9,6 +9,7 @@ values within the growth threshold of zero print as neutral, not as numbers
 from __future__ import annotations
 
 from ..model.units import FREQUENCY_UNITS, fmt_speed, ref_note, significant
+from ..results.air import DEUTSCH_IN_AIR
 from ..results.summary import SWEEP_END_NOTE, SWEEP_START_NOTE, no_exact_reason, open_below_note
 from .common import plain
 
@@ -212,7 +213,67 @@ def deutsch_notes(summary: dict, sweep) -> list[str]:
             "coefficients in every frame. Its 'needs' is indicative only; the exact minimum "
             "below governs."
         )
+    if "aero" in summary:
+        notes.append(f"In air: {DEUTSCH_IN_AIR}; the exact minimum below includes the air.")
     return [plain(n) for n in notes]
+
+
+def air_header(summary: dict) -> str:
+    """One line on the air: the Lock number and solidity (which one the case gave), the pitch."""
+    a = summary["aero"]
+    lock = f"Lock number {a['lock_number']:.4g}" + (" (given)" if a["given"] == "lock_number" else "")
+    density = f"air density {a['air_density']:.4g} kg/m^3" + (
+        " (given)" if a["given"] == "air_density" else ""
+    )
+    couplings = ", ".join(
+        f"{name} {a[key]:+.3g}"
+        for key, name in (("pitch_flap", "K_Pbeta"), ("pitch_lag", "K_Pzeta"))
+        if a[key]
+    )
+    return (
+        f"In air: {lock}, {density}, solidity {a['solidity']:.4g}; collective {a['collective']:.4g} deg, "
+        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {a['inflow']} inflow."
+    )
+
+
+#: Rows of the trim table the terminal shows (summary.json and modes.nc hold every speed).
+TRIM_ROWS = 6
+
+
+def trim_table(summary: dict, sweep):
+    """The hover trim at a few speeds spread over the sweep."""
+    trim = summary["trim"]
+    speeds = trim["rotor_speed"]
+    rows = sorted({round(i * (len(speeds) - 1) / (TRIM_ROWS - 1)) for i in range(TRIM_ROWS)})
+    table = simple_table("Hover trim (every speed in summary.json and modes.nc)")
+    for head in (
+        "speed",
+        "lambda",
+        "C_T",
+        "C_T/sigma",
+        "coning\n[deg]",
+        "trim lag\n[deg]",
+        "thrust\n[N]",
+        "torque\n[N m]",
+    ):
+        table.add_column(head, justify="right")
+
+    def first(values, i):  # (per blade where the blades differ: blade 1's, the note says so)
+        value = values[i]
+        return value[0] if isinstance(value, list) else value
+
+    for i in rows:
+        table.add_row(
+            _speed_cell(speeds[i], sweep),
+            f"{trim['inflow_ratio'][i]:.4g}",
+            f"{trim['thrust_coefficient'][i]:.4g}",
+            f"{trim['blade_loading'][i]:.4g}",
+            f"{first(trim['coning'], i):.4g}",
+            f"{first(trim['trim_lag'], i):.4g}",
+            f"{trim['thrust'][i]:.5g}",
+            f"{trim['torque'][i]:.5g}",
+        )
+    return table
 
 
 def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> None:
@@ -223,6 +284,11 @@ def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> N
         f"[bold]{plain(result.case.title)}[/bold]  "
         f"({summary['method']}, frequencies in the {result.frame} frame)"
     )
+    if "aero" in summary:
+        console.print(plain(air_header(summary)))
+        console.print(trim_table(summary, sweep))
+        if not result.case.rotor.blades_alike:
+            console.print("Coning and trim lag of blade 1 (the blades differ: each blade's in summary.json).")
     if summary["stable"]:
         console.print(
             "[green]Stable[/green] over the whole sweep "

@@ -21,7 +21,7 @@ from .validate import finite, non_negative, positive
 INFLOWS = ("uniform", "dynamic")
 #: Largest pitch [deg] anywhere on the span: strip theory here takes small angles.
 MAX_PITCH_DEG = 30.0
-#: Largest |K_Pbeta| and |K_Pzeta| (tan 80 deg is 5.7).
+#: Largest magnitude of K_Pbeta and K_Pzeta (tan 80 deg is 5.7).
 MAX_COUPLING = 6.0
 
 

@@ -8,6 +8,7 @@ give the time-invariant forms where they exist (see :mod:`groundres.model.mbc`).
 
 from __future__ import annotations
 
+import copy
 from dataclasses import replace
 from functools import cached_property
 
@@ -22,6 +23,8 @@ from .params import Rotor
 from .units import BLADE_UNITS, ROD_UNITS, SI, MassUnit
 
 _LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
+#: Systems frozen at one speed's trim (:meth:`System.frozen`) a system keeps.
+FROZEN_KEPT = 8
 
 
 def searched(rotor: Rotor) -> str:
@@ -80,6 +83,8 @@ class System:
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
         self._trims = {}
+        self._frozen = None  # (a Trim of one speed: the system frozen at it, see frozen())
+        self._frozen_systems = {}
         #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
         #: with damping, or all of them where none has.
         self.working = working(self.damper_values(every=True))
@@ -144,8 +149,11 @@ class System:
 
     def trim(self, speeds) -> trim_module.Trim:
         """The hover trim at ``speeds`` [rad/s] of a rotor in air (:mod:`groundres.model.trim`;
-        thrust and torque in SI), kept for the last few sweeps asked."""
+        thrust and torque in SI), kept for the last few sweeps asked; of a system frozen at
+        one speed's trim (:meth:`frozen`), that trim at every speed."""
         speeds = np.asarray(speeds, dtype=float)
+        if self._frozen is not None:
+            return self._frozen.at(speeds)
         key = speeds.tobytes()
         if key not in self._trims:
             if len(self._trims) >= 4:
@@ -202,6 +210,27 @@ class System:
         if self.rotor.dampers:
             out[1:] += self.rod_matrices.reshape((2,) + (1,) * phase.ndim + (self.size, self.size))
         return out
+
+    def frozen(self, speed: float) -> System:
+        """This system with its trim held at the trim of ``speed`` [rad/s] (a rotor in air).
+
+        In vacuum the matrices are exact polynomials in the rotor speed (mass
+        constant, damping linear, stiffness quadratic), which the periodic
+        analysis builds on; in air the trim changes with the speed, but with the
+        trim held they are such polynomials again, and equal this system's at
+        ``speed``. The last few are kept (with their node grids).
+        """
+        if self.rotor.aero is None:
+            return self
+        key = float(speed)
+        if key not in self._frozen_systems:
+            if len(self._frozen_systems) >= FROZEN_KEPT:
+                self._frozen_systems.pop(next(iter(self._frozen_systems)))
+            held = copy.copy(self)
+            held.grid_cache, held._trims, held._frozen_systems = {}, {}, {}
+            held._frozen = self.trim(np.array([key])).single(0)
+            self._frozen_systems[key] = held
+        return self._frozen_systems[key]
 
     @property
     def searched(self) -> str:

@@ -4,7 +4,7 @@ At each rotor speed the body is at rest, every blade holds still in the hub's
 axes at its coning and trim lag angles, and the inflow is uniform, from
 momentum theory (a rotor without flap has its flap hinge held at zero coning):
 the rotor's thrust T = rho pi R^2 (Omega R)^2 C_T with
-C_T = 2 lambda |lambda| (lambda the inflow ratio, positive down through the
+C_T = 2 lambda abs(lambda) (lambda the inflow ratio, positive down through the
 disk). The unknowns (each blade's coning and trim lag, and lambda) solve the
 blades' flap and lag equations and the momentum balance together, by
 Newton's method batched over the speeds, with the derivatives derived with
@@ -45,7 +45,7 @@ class Trim:
     thrust, torque : ndarray (n_s,)
         The rotor's thrust along the shaft [N] and the torque it asks of the shaft [N m].
     thrust_coefficient : ndarray (n_s,)
-        C_T = T / (rho pi R^2 (Omega R)^2) = 2 lambda |lambda| [-].
+        C_T = T / (rho pi R^2 (Omega R)^2) = 2 lambda abs(lambda) [-].
     solidity : float
         sigma = N c / (pi R) [-].
     """
@@ -63,6 +63,35 @@ class Trim:
     def loading(self) -> np.ndarray:
         """Blade loading C_T / sigma [-]."""
         return self.thrust_coefficient / self.solidity
+
+    def single(self, index: int) -> Trim:
+        """The trim of one speed of the sweep (a sweep of one)."""
+        pick = slice(index, index + 1)
+        return Trim(
+            self.rotor_speed[pick],
+            self.inflow_ratio[pick],
+            self.coning[pick],
+            self.trim_lag[pick],
+            self.thrust[pick],
+            self.torque[pick],
+            self.thrust_coefficient[pick],
+            self.solidity,
+        )
+
+    def at(self, speeds) -> Trim:
+        """This one speed's trim held at every one of ``speeds`` (its thrust and torque too)."""
+        n = np.size(speeds)
+        rows = np.zeros(n, int)
+        return Trim(
+            np.asarray(speeds, dtype=float),
+            self.inflow_ratio[rows],
+            self.coning[rows],
+            self.trim_lag[rows],
+            self.thrust[rows],
+            self.torque[rows],
+            self.thrust_coefficient[rows],
+            self.solidity,
+        )
 
 
 def aero_arguments(aero) -> dict:

@@ -15,6 +15,7 @@ from .._version import __version__
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN
 from ..model.body import TRANSLATIONS
 from ..model.units import BLADE_UNITS, BODY_UNITS, ROD_UNITS, udunits
+from .air import trim_variables
 from .summary import open_below_note
 
 CONVENTIONS = "CF-1.10"
@@ -243,6 +244,8 @@ def dataset(result):
             {"long_name": "modes with a growing root in the range"},
         ),
     }
+    if result.trim is not None:
+        variables.update(trim_variables(result))
     attrs = {
         "Conventions": CONVENTIONS,
         "title": result.case.title,

@@ -17,6 +17,7 @@ from ..assess.deutsch import DeutschEntry, installed_lag_damping, lag_frequency_
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 from ..model.system import searched, searched_unit
 from ..model.units import ROD_UNITS
+from .air import DEUTSCH_IN_AIR, aero_block, trim_block
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -240,12 +241,15 @@ def summary(result) -> dict:
         "damping as installed)"
     )
     lag["deutsch"] = [deutsch_entry(e, speeds) for e in result.deutsch]
-    lag["deutsch_note"] = DEUTSCH_NOTE
+    lag["deutsch_note"] = DEUTSCH_NOTE + ("; " + DEUTSCH_IN_AIR if case.rotor.aero is not None else "")
     if not st.stable:
         lag["deutsch_overall"] = DEUTSCH_UNSTABLE
     out["lag_damping"] = lag
     if result.margins is not None:
         out["margins"] = margins_block(result)
+    if case.rotor.aero is not None:
+        out["aero"] = aero_block(case)
+        out["trim"] = trim_block(result)
     return out
 
 

@@ -14,6 +14,7 @@ from ..assess.margins import Margins
 from ..assess.stability import Stability, growth_threshold
 from ..methods import Method
 from ..model.params import Case
+from ..model.trim import Trim
 from ..modes.identify import Modes
 
 
@@ -61,6 +62,9 @@ class SweepResult:
         (start, end) -> {label: root} of the modes that grow at the peak of each unstable range
         that holds none of the sweep's speeds (the modes identified there on their own:
         interpolating the sweep's across such a range could name the wrong ones).
+    trim : Trim, optional
+        The hover trim at every speed of a rotor in air (:class:`groundres.model.trim.Trim`);
+        None in vacuum.
     """
 
     case: Case
@@ -77,6 +81,7 @@ class SweepResult:
     accuracy: dict | None = None
     margins: Margins | None = None
     between: dict | None = None
+    trim: Trim | None = None
 
     @property
     def labels(self) -> list[str]:

@@ -115,7 +115,10 @@ class _Harmonics:
 
 
 def _harmonics(system: System) -> _Harmonics:
-    """The system's harmonics, fitted once and kept on it."""
+    """The system's harmonics, fitted once and kept on it (in air: on a system frozen at one
+    speed's trim, whose matrices are polynomials in the speed)."""
+    if system.rotor.aero is not None and system._frozen is None:
+        raise ValueError("node matrices of a rotor in air need a system frozen at one speed's trim")
     fit = system.grid_cache.get("node_harmonics")
     if fit is None:
         fit = system.grid_cache["node_harmonics"] = _Harmonics(system)
@@ -251,6 +254,14 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
 
     speeds = np.asarray(speeds, dtype=float)
     damping = per_speed(damping, len(speeds))
+    if system.rotor.aero is not None and system._frozen is None:  # (in air: speed by speed)
+        parts = [
+            frozen_roots(
+                system.frozen(w), speeds[i : i + 1], probes, None if damping is None else damping[i : i + 1]
+            )
+            for i, w in enumerate(speeds)
+        ]
+        return np.concatenate(parts, axis=1) if parts else np.zeros((probes, 0, 2 * system.size))
     directions = directions_of(damping)
     key = f"frozen-{probes}-{directions}"  # (the same few azimuths every time: their blocks are kept)
     with _CACHE_LOCK:

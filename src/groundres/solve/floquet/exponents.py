@@ -245,6 +245,21 @@ def solve(
         ``tolerance`` (:data:`SCAN_TOLERANCE`).
     """
     speeds = np.asarray(speeds, dtype=float)
+    if system.rotor.aero is not None and system._frozen is None:
+        return _in_air(
+            system,
+            speeds,
+            harmonics,
+            tolerance,
+            scale,
+            tableau,
+            lift,
+            progress,
+            damping,
+            sym,
+            compiled,
+            bounds,
+        )
     sym = symmetry(system) if sym is None else sym
     damping = per_speed(damping, len(speeds))
     n = system.size
@@ -371,6 +386,56 @@ def solve(
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(
         exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key, lower, upper
+    )
+
+
+def _in_air(
+    system, speeds, harmonics, tolerance, scale, tableau, lift, progress, damping, sym, compiled, bounds
+):
+    """:func:`solve` of a rotor in air: speed by speed, each on the system frozen at its trim
+    (:meth:`groundres.model.system.System.frozen`), whose matrices are again polynomials in
+    the speed."""
+    damping = per_speed(damping, len(speeds))
+    parts = []
+    for i, w in enumerate(speeds):
+        c = None if damping is None else damping[i : i + 1]
+        parts.append(
+            solve(
+                system.frozen(w),
+                speeds[i : i + 1],
+                harmonics,
+                tolerance,
+                scale,
+                tableau,
+                lift,
+                None,
+                c,
+                sym,
+                compiled,
+                bounds,
+            )
+        )
+        if progress is not None:
+            progress(i + 1, len(speeds))
+    first = parts[0]
+
+    def joined(name):
+        values = [getattr(p, name) for p in parts]
+        return None if values[0] is None else np.concatenate(values)
+
+    return FloquetSolution(
+        joined("exponent"),
+        joined("multiplier"),
+        joined("vector"),
+        joined("harmonics"),
+        first.orders,
+        first.symmetry,
+        joined("steps"),
+        speeds,
+        joined("lifted"),
+        joined("key"),
+        joined("real_lower"),
+        joined("real_upper"),
     )
 
 
