@@ -151,7 +151,9 @@ def root_counts(modes, speeds, rest) -> tuple[np.ndarray, np.ndarray]:
     counts from the first speed where it vibrates on, whatever label it carries
     by then (labels move between roots at veerings; a root does not). It
     vibrates where the frequency seen from rotating axes of the mode that
-    carries it exceeds :data:`STILL` of the root's size (or of the rotor speed).
+    carries it exceeds :data:`STILL` of the root's size (or of the rotor speed). A
+    root that is zero (within the growth threshold: the attitude of a body free in
+    pitch or roll) counts nowhere.
 
     Returns
     -------
@@ -170,7 +172,10 @@ def root_counts(modes, speeds, rest) -> tuple[np.ndarray, np.ndarray]:
     tiny = 1e-9 * max(float(np.abs(modes.root_eigenvalue[0]).max()), 1e-300)
     creeps = np.asarray(rest, bool)[label[0]] & (modes.root_real_part[0] >= first - tiny)
     started = np.logical_or.accumulate(stillness < 0, axis=0)
-    return ~creeps[None, :] | started, stillness
+    # A zero root (a free body's attitude, hovering) is no vibration, whichever frame sees it
+    # turn: it neither vibrates nor grows.
+    zero = np.abs(modes.root_eigenvalue) <= growth_threshold(speeds)[:, None]
+    return (~creeps[None, :] | started) & ~zero, stillness
 
 
 def neutral_at_rest(rest_modes) -> np.ndarray:
