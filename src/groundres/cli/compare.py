@@ -42,13 +42,21 @@ from .run import STAGES, warm_plotting
     default=None,
     help="Frame of the frequencies, for every entry (overrides the cases).",
 )
+@click.option(
+    "--vacuum",
+    is_flag=True,
+    help="Also analyse every CASE in air without its [aero] table, as the entry just before it "
+    "(so one case and --vacuum compare the rotor in vacuum, the baseline, with it in air).",
+)
 @click.option("--damping-ratio", is_flag=True, help="Plot damping ratio instead of real part.")
 @plot_options(
     "Rotor-speed axis: the first case's unit, or divided by the first case's [sweep] reference; "
     "auto normalises where every case has that same reference."
 )
 @FORMAT
-def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_limits, real_limits, modes, fmt):
+def command(
+    cases, out, methods, frame, vacuum, damping_ratio, speed_axis, frequency_limits, real_limits, modes, fmt
+):
     """Overlay the Coleman diagrams of two or more analyses and tabulate their differences.
 
     CASE is a TOML file or a shipped case name; the entries are every CASE by
@@ -74,12 +82,16 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
         "real_limits": parse_limits(real_limits, "--real-limits"),
     }
     methods = list(methods) or [None]
+    loaded = [load(case, named=True) for case in cases]
+    if vacuum:
+        if not any(c.rotor.aero is not None for c in loaded):
+            fail_user("--vacuum: no CASE has an [aero] table; every one is in vacuum already")
+        loaded, cases = _with_twins(loaded, cases)
     if len(cases) * len(methods) < 2:
         fail_user(
             f"{len(cases)} case and {len(methods)} method make one entry: compare needs two or more; "
             "give two or more CASEs, or --method twice (e.g. --method eigen --method floquet)"
         )
-    loaded = [load(case, named=True) for case in cases]
     check_reference(loaded[0], speed_axis, "the first case")
     out_dir = output_dir(cases[0], out, "compare")
     check_out(out_dir, out)
@@ -112,6 +124,19 @@ def command(cases, out, methods, frame, damping_ratio, speed_axis, frequency_lim
                 **invocation(),
             )
     _print(console, comparison, rows, out_dir, fmt)
+
+
+def _with_twins(loaded, cases):
+    """The cases with each one in air preceded by itself in vacuum (:meth:`Case.in_vacuum`),
+    and the arguments that name them."""
+    cases_out, names = [], []
+    for case, argument in zip(loaded, cases):
+        if case.rotor.aero is not None:
+            cases_out.append(case.in_vacuum())
+            names.append(f"{argument} (in vacuum)")
+        cases_out.append(case)
+        names.append(argument)
+    return cases_out, names
 
 
 def _entry_record(entry, cases) -> dict:

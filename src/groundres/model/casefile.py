@@ -237,3 +237,20 @@ def _too_long_number(text: str) -> str:
         f"{where}<a whole number of over 4000 digits>: must be a finite number, "
         f"|value| <= {LARGEST_NUMBER_TEXT}"
     )
+
+
+#: A table header line of a case file (``[sweep]``, ``[[rotor.blade]]``).
+TABLE_HEADER = re.compile(r"^\s*\[")
+
+
+def without_table(text: str, table: str, why: str) -> str:
+    """A case file's ``text`` with its ``[table]`` commented out line by line, under a comment
+    saying ``why`` (the text as it is, with that comment on top, where the table is not
+    written under its own header)."""
+    lines = text.splitlines()
+    start = next((i for i, line in enumerate(lines) if line.strip() == f"[{table}]"), None)
+    if start is None:
+        return f"# {why}\n{text}"
+    end = next((i for i in range(start + 1, len(lines)) if TABLE_HEADER.match(lines[i])), len(lines))
+    lines[start:end] = [f"# {why}"] + [f"# {line}" if line else "#" for line in lines[start:end]]
+    return "\n".join(lines) + "\n"

@@ -283,7 +283,9 @@ class Case:
 
     ``source`` names where the case came from (a path or a shipped case's
     name) and ``text`` is the case file's text exactly as read, which output
-    folders keep beside the results (both empty for a case built in Python).
+    folders keep beside the results (both empty for a case built in Python);
+    ``variant`` says how the case differs from its file ("in vacuum":
+    :meth:`in_vacuum`), "" where it does not.
     """
 
     rotor: Rotor
@@ -293,6 +295,27 @@ class Case:
     description: str = ""
     source: str = field(default="", compare=False)
     text: str = field(default="", compare=False, repr=False)
+    variant: str = ""
+
+    def in_vacuum(self) -> Case:
+        """The same case without its ``[aero]`` table: the rotor in vacuum (the case itself
+        where it has none); its title says so and its text has the table commented out."""
+        if self.rotor.aero is None:
+            return self
+        from .casefile import without_table
+
+        text = (
+            without_table(self.text, "aero", "in vacuum: the [aero] table below is left out")
+            if self.text
+            else ""
+        )
+        return replace(
+            self,
+            rotor=replace(self.rotor, aero=None),
+            title=f"{self.title} (in vacuum)",
+            text=text,
+            variant="in vacuum",
+        )
 
     def __post_init__(self):
         n = len(self.body.dofs) + self.rotor.n_blades * (2 if self.rotor.flap else 1)

@@ -272,8 +272,10 @@ class Comparison:
 
 
 def case_name(case: Case) -> str:
-    """A short name of a case: its file's stem, the shipped case's name, or its title."""
-    return Path(case.source).stem if case.source else case.title
+    """A short name of a case: its file's stem, the shipped case's name, or its title (with how
+    it differs from its file: "in vacuum")."""
+    name = Path(case.source).stem if case.source else case.title
+    return f"{name} ({case.variant})" if case.variant and case.source else name
 
 
 def entry_details(results) -> list[str]:
