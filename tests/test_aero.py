@@ -27,7 +27,7 @@ from groundres.model.params import Blade, Rotor
 from groundres.model.schema import parse_case
 from groundres.model.system import System
 from groundres.model.trim import solve_trim
-from groundres.symbolic.codegen import blade_function, generated
+from groundres.symbolic.codegen import air_coefficients, air_values, blade_function
 
 
 def rot_x(a):
@@ -157,6 +157,15 @@ def span_moments(p):
     return {f"span_moment_{k}": (high ** (k + 1) - low ** (k + 1)) / (k + 1) for k in range(5)}
 
 
+def blade_in_air(speed, p):
+    """The generated blade in air (its coefficients, then its monomials) at one speed: (3, 5, 8, 8, 1)."""
+    state = ("inflow_ratio", "coning", "trim_lag")
+    coefficients = air_coefficients(
+        "blade_in_air", **{k: v for k, v in p.items() if k not in state}, **span_moments(p)
+    )
+    return air_values("blade_in_air", coefficients, np.array([speed]), *(np.array([p[k]]) for k in state))
+
+
 def at_azimuth(harmonics, psi):
     weights = np.array([1, np.cos(psi), np.sin(psi), np.cos(2 * psi), np.sin(2 * psi)])
     return np.einsum("h,ghij->gij", weights, harmonics)
@@ -170,10 +179,8 @@ def test_air_matrices_equal_a_numeric_linearisation_of_the_section_loads(seed):
     rng = np.random.default_rng(seed)
     p = random_parameters(rng)
     speed, psi = rng.uniform(10, 40), rng.uniform(0, 2 * np.pi)
-    air = generated("blade_in_air")(np.array([speed]), **p, **span_moments(p))[..., 0]
-    still = generated("blade_in_air")(np.array([speed]), **{**p, "air_density": 0.0}, **span_moments(p))[
-        ..., 0
-    ]
+    air = blade_in_air(speed, p)[..., 0]
+    still = blade_in_air(speed, {**p, "air_density": 0.0})[..., 0]
     _, damping, stiffness = at_azimuth(air - still, psi)
     ref_k, ref_c = NumericBlade(p, speed, psi).linearised(p)
     for mine, ref in ((stiffness, ref_k), (damping, ref_c)):
@@ -189,7 +196,7 @@ def test_no_air_about_zero_trim_is_the_vacuum_blade():
     p.update(air_density=0.0, coning=0.0, trim_lag=0.0)
     structural = {k: p[k] for k in blade_function().__code__.co_varnames[1:12]}
     vacuum = blade_function()(np.array([17.0]), **structural)
-    air = generated("blade_in_air")(np.array([17.0]), **p, **span_moments(p))
+    air = blade_in_air(17.0, p)
     np.testing.assert_allclose(air, vacuum, rtol=0, atol=1e-12 * np.abs(vacuum).max())
 
 
@@ -399,3 +406,75 @@ def test_rotating_axes_equal_multiblade_in_air_on_an_isotropic_hub():
     one, other = Multiblade(system).roots(speeds), Rotating(system).roots(speeds)
     scale = np.abs(one.real).max()
     np.testing.assert_allclose(np.sort(other.real, -1), np.sort(one.real, -1), rtol=0, atol=1e-9 * scale)
+
+
+def test_steady_flapping_per_unit_body_pitch_and_roll_rate():
+    """A centrally hinged rotor without spring, zero collective, the hub at the pivot: turning
+    the body at a steady rate tilts the rotor behind the shaft. Per unit q/Omega (pitch rate,
+    nose up) beta_1c = -16/gamma and beta_1s = -1; per unit p/Omega (roll rate, right side
+    down) beta_1c = 1 and beta_1s = -16/gamma (Johnson 2013, flapping due to shaft rotation,
+    in groundres's azimuth from the nose). The body's angles themselves load nothing."""
+    inertia, radius, rho, a, chord, speed = 400.0, 5.0, 1.225, 5.7, 0.35, 30.0
+    blade = Blade(90.0, 110.0, inertia, 0.0, lag_stiffness=1e9)
+    body = Body(
+        dofs=("pitch", "roll"),
+        inertia_pitch=1000.0,
+        inertia_roll=1000.0,
+        stiffness_pitch=1e5,
+        stiffness_roll=1e5,
+        hub_height=0.0,
+    )
+    system = System(rotor_in_air(blade, Aero(rho, a, chord, radius, root_cutout=0.0)), body)
+    m, c, k = system.multiblade(np.array([speed]))[:, 0]
+    names = [(x.kind, x.name) for x in system.multiblade_coordinates()]
+    blades = list(range(2, system.size))
+    assert np.abs(k[np.ix_(blades, [0, 1])]).max() == 0.0
+    response = np.linalg.solve(k[np.ix_(blades, blades)], -c[np.ix_(blades, [0, 1])]) * speed
+    flap = {name: response[names.index(("flap", name)) - 2] for name in ("1c", "1s")}
+    gamma = rho * a * chord * radius**4 / inertia
+    np.testing.assert_allclose(flap["1c"], [-16 / gamma, 1.0], rtol=1e-12)
+    np.testing.assert_allclose(flap["1s"], [-1.0, -16 / gamma], rtol=1e-12)
+
+
+def test_a_collective_sweep_is_a_study_of_aero_collective():
+    """A study varies [aero] keys like any other: each point equals the case with that value
+    written into its [aero] table (serial study; the cluster path is tested in test_study.py)."""
+    from groundres import analyze
+    from groundres.studies.study import study
+
+    text = (
+        CASE
+        + "\n[aero]\nair_density = 1.225\nlift_slope = 5.7\nchord = 0.35\ntip_radius = 5.0\ncollective = 2.0\n"
+    )
+    import tomllib
+
+    case = parse_case(tomllib.loads(text), "air", text)
+    grid = study(case, {"aero.collective": [0.0, 6.0], "aero.pitch_lag": [0.0, -0.3]})
+    assert grid["aero.collective"].attrs["units"] == "deg"
+    for collective, pitch_lag in [(0.0, 0.0), (6.0, -0.3)]:
+        written = text.replace("collective = 2.0", f"collective = {collective}\npitch_lag = {pitch_lag}")
+        stability = analyze(
+            parse_case(tomllib.loads(written), "air", written), lag_damping_search=False
+        ).stability
+        point = grid.sel({"aero.collective": collective, "aero.pitch_lag": pitch_lag})
+        assert float(point.max_real_part) == pytest.approx(stability.max_real_part[0], rel=1e-9, abs=1e-12)
+
+
+def test_compare_vacuum_puts_the_case_in_vacuum_beside_it_in_one_command(tmp_path):
+    from click.testing import CliRunner
+
+    from groundres.cli import main
+
+    out = tmp_path / "cmp"
+    import json
+
+    result = CliRunner().invoke(main, ["compare", "model-rotor-hover-0deg", "--vacuum", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "(in" in result.output and "vacuum)" in result.output  # (the table may wrap it)
+    record = json.loads((out / "provenance.json").read_text())["entries"][0]
+    assert record["name"] == "model-rotor-hover-0deg (in vacuum)"
+    first, second = (json.loads((out / f"summary-{k}.json").read_text()) for k in (1, 2))
+    assert "aero" not in first and second["aero"]["lock_number"] == pytest.approx(6.9, abs=0.01)
+    assert "# [aero]" in (out / "case.toml").read_text()
+    refused = CliRunner().invoke(main, ["compare", "hammond-1974", "--vacuum", "--out", str(tmp_path / "x")])
+    assert refused.exit_code == 2 and "no CASE has an [aero] table" in refused.output

@@ -240,7 +240,7 @@ def _too_long_number(text: str) -> str:
 
 
 #: A table header line of a case file (``[sweep]``, ``[[rotor.blade]]``).
-TABLE_HEADER = re.compile(r"^\s*\[")
+_TABLE_HEADER = re.compile(r"^\s*\[")
 
 
 def without_table(text: str, table: str, why: str) -> str:
@@ -251,6 +251,6 @@ def without_table(text: str, table: str, why: str) -> str:
     start = next((i for i, line in enumerate(lines) if line.strip() == f"[{table}]"), None)
     if start is None:
         return f"# {why}\n{text}"
-    end = next((i for i in range(start + 1, len(lines)) if TABLE_HEADER.match(lines[i])), len(lines))
+    end = next((i for i in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[i])), len(lines))
     lines[start:end] = [f"# {why}"] + [f"# {line}" if line else "#" for line in lines[start:end]]
     return "\n".join(lines) + "\n"

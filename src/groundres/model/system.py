@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function, generated
+from ..symbolic.codegen import BLADE_ARGUMENTS, air_values, blade_function
 from . import dampers, mbc
 from . import trim as trim_module
 from .body import BODY_DOFS, Body
@@ -82,7 +82,7 @@ class System:
         own = ~((rows < self.n_body) & (cols < self.n_body))
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
-        self._trims = {}
+        self._trims = None  # (a TrimTable, made when first asked)
         self._frozen = None  # (a Trim of one speed: the system frozen at it, see frozen())
         self._frozen_systems = {}
         #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
@@ -130,15 +130,16 @@ class System:
             if aero is None:
                 arrays = blade_function()(speeds, **hub, **values)
             else:
-                arrays = generated("blade_in_air")(
+                coefficients = trim_module.coefficients(
+                    "blade_in_air", blade, trim_module.hub_of(self.body), aero
+                )
+                arrays = air_values(
+                    "blade_in_air",
+                    coefficients,
                     speeds,
-                    **hub,
-                    **values,
-                    **trim_module.aero_arguments(aero),
-                    **trim_module.moments(blade, aero),
-                    inflow_ratio=trim.inflow_ratio,
-                    coning=trim.coning[:, k],
-                    trim_lag=trim.trim_lag[:, k],
+                    trim.inflow_ratio,
+                    trim.coning[:, k],
+                    trim.trim_lag[:, k],
                 )
             return np.moveaxis(arrays, -1, 0)[sel]
 
@@ -149,17 +150,14 @@ class System:
 
     def trim(self, speeds) -> trim_module.Trim:
         """The hover trim at ``speeds`` [rad/s] of a rotor in air (:mod:`groundres.model.trim`;
-        thrust and torque in SI), kept for the last few sweeps asked; of a system frozen at
-        one speed's trim (:meth:`frozen`), that trim at every speed."""
+        thrust and torque in SI), each speed found once (:class:`groundres.model.trim.TrimTable`);
+        of a system frozen at one speed's trim (:meth:`frozen`), that trim at every speed."""
         speeds = np.asarray(speeds, dtype=float)
         if self._frozen is not None:
             return self._frozen.at(speeds)
-        key = speeds.tobytes()
-        if key not in self._trims:
-            if len(self._trims) >= 4:
-                self._trims.pop(next(iter(self._trims)))
-            self._trims[key] = trim_module.solve_trim(self.rotor, self.body, speeds, self.mass_unit.kg)
-        return self._trims[key]
+        if self._trims is None:
+            self._trims = trim_module.TrimTable(self.rotor, self.body, self.mass_unit.kg)
+        return self._trims(speeds)
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
@@ -227,7 +225,7 @@ class System:
             if len(self._frozen_systems) >= FROZEN_KEPT:
                 self._frozen_systems.pop(next(iter(self._frozen_systems)))
             held = copy.copy(self)
-            held.grid_cache, held._trims, held._frozen_systems = {}, {}, {}
+            held.grid_cache, held._trims, held._frozen_systems = {}, None, {}
             held._frozen = self.trim(np.array([key])).single(0)
             self._frozen_systems[key] = held
         return self._frozen_systems[key]
@@ -271,11 +269,19 @@ class System:
             rods = tuple(
                 replace(d, damping=value) if w else d for d, w in zip(self.rotor.dampers, self.working)
             )
-            return System(replace(self.rotor, dampers=rods), self.body, self.mass_unit)
+            return self._damped(System(replace(self.rotor, dampers=rods), self.body, self.mass_unit))
         blades = tuple(
             replace(b, lag_damping=value) if w else b for b, w in zip(self.rotor.blades, self.working)
         )
-        return System(replace(self.rotor, blades=blades), self.body, self.mass_unit)
+        return self._damped(System(replace(self.rotor, blades=blades), self.body, self.mass_unit))
+
+    def _damped(self, other: System) -> System:
+        """``other``, which differs from this system only in its dampers, sharing its trims
+        (dampers hold no load at the trim: the blades are still there)."""
+        if self._trims is None and self.rotor.aero is not None:
+            self._trims = trim_module.TrimTable(self.rotor, self.body, self.mass_unit.kg)
+        other._trims = self._trims
+        return other
 
     def lag_damping_split(self) -> System:
         """The equations without their working lag dampers, carrying dC/dc.
@@ -307,7 +313,7 @@ class System:
             if np.abs(other[::2] - own[::2]).max() > 1e-13 * scale or np.abs(d - d[0]).max() > 1e-13 * scale:
                 raise ValueError("a damping direction must leave mass and stiffness alone and be constant")
             directions.append(d[0])
-        split = System(self.rotor, self.body, self.mass_unit)
+        split = self._damped(System(self.rotor, self.body, self.mass_unit))
         split.damping_directions = np.array(directions).reshape(len(directions), self.size, self.size)
         return split
 

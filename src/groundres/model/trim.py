@@ -14,13 +14,14 @@ rotor at zero thrust (lambda = 0) trims like any other.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ModelRangeError
-from ..symbolic.codegen import BLADE_ARGUMENTS, SPAN_ARGUMENTS, generated
+from ..symbolic.codegen import BLADE_ARGUMENTS, SPAN_ARGUMENTS, air_coefficients, air_values
 
 #: Most Newton steps; the trim converges in a handful (quadratically).
 MAX_STEPS = 60
@@ -66,17 +67,16 @@ class Trim:
 
     def single(self, index: int) -> Trim:
         """The trim of one speed of the sweep (a sweep of one)."""
-        pick = slice(index, index + 1)
-        return Trim(
-            self.rotor_speed[pick],
-            self.inflow_ratio[pick],
-            self.coning[pick],
-            self.trim_lag[pick],
-            self.thrust[pick],
-            self.torque[pick],
-            self.thrust_coefficient[pick],
-            self.solidity,
-        )
+        return self.take(np.arange(index, index + 1))
+
+    def take(self, rows) -> Trim:
+        """The trims of some speeds (``rows``: indices into this sweep)."""
+        return Trim(*(getattr(self, f)[rows] for f in _PER_SPEED), self.solidity)
+
+    @staticmethod
+    def joined(parts, solidity: float) -> Trim:
+        """The trims of several sweeps as one, in the order given."""
+        return Trim(*(np.concatenate([getattr(p, f) for p in parts]) for f in _PER_SPEED), solidity)
 
     def at(self, speeds) -> Trim:
         """This one speed's trim held at every one of ``speeds`` (its thrust and torque too)."""
@@ -92,6 +92,48 @@ class Trim:
             self.thrust_coefficient[rows],
             self.solidity,
         )
+
+
+#: The fields of a Trim that run over the speeds.
+_PER_SPEED = ("rotor_speed", "inflow_ratio", "coning", "trim_lag", "thrust", "torque", "thrust_coefficient")
+
+
+class TrimTable:
+    """The trims a system has found, speed by speed, to answer later speeds from.
+
+    A sweep's scans and searches ask for the trim at thousands of single
+    speeds; each is found once (and a new one starts Newton's method from
+    the trims found nearest it, which it then needs few steps to polish).
+    """
+
+    #: Most speeds kept; beyond it the table starts afresh.
+    LIMIT = 100_000
+
+    def __init__(self, rotor, body, unit_kg: float):
+        self.rotor, self.body, self.unit_kg = rotor, body, unit_kg
+        self.known: Trim | None = None
+
+    def __call__(self, speeds) -> Trim:
+        speeds = np.asarray(speeds, dtype=float).reshape(-1)
+        known = self.known
+        if known is not None:
+            at = np.clip(np.searchsorted(known.rotor_speed, speeds), 0, len(known.rotor_speed) - 1)
+            hit = known.rotor_speed[at] == speeds
+            if hit.all():
+                return known.take(at)
+        else:
+            hit = np.zeros(speeds.shape, bool)
+        new = np.unique(speeds[~hit])
+        found = solve_trim(self.rotor, self.body, new, self.unit_kg, guess=known)
+        merged = (
+            found
+            if known is None or len(known.rotor_speed) > self.LIMIT
+            else Trim.joined([known, found], found.solidity)
+        )
+        order = np.argsort(merged.rotor_speed, kind="stable")
+        self.known = merged.take(order)
+        at = np.searchsorted(self.known.rotor_speed, speeds)
+        return self.known.take(at)
 
 
 def aero_arguments(aero) -> dict:
@@ -113,11 +155,19 @@ def aero_arguments(aero) -> dict:
     }
 
 
-def blade_arguments(blade, body) -> dict:
-    """A blade's structural arguments of the generated functions, with its hub and span moments."""
-    values = {k: getattr(blade, k) for k in BLADE_ARGUMENTS if hasattr(blade, k)}
-    values.update({k: getattr(body, k) for k in ("hub_height", "hub_x", "hub_y")})
-    return values
+@functools.lru_cache(maxsize=64)
+def coefficients(name: str, blade, hub: tuple, aero) -> np.ndarray:
+    """The coefficients (K, ...) of ``name`` ("blade_in_air" or "trim_in_air") for one blade on
+    a hub at ``hub`` = (hub_height, hub_x, hub_y) [m] in ``aero`` (kept: a sweep, its scans
+    and searches evaluate the same blade at thousands of speeds, each a product with these)."""
+    fixed = {k: getattr(blade, k) for k in BLADE_ARGUMENTS if hasattr(blade, k)}
+    fixed.update(dict(zip(("hub_height", "hub_x", "hub_y"), hub)))
+    return air_coefficients(name, **fixed, **aero_arguments(aero), **moments(blade, aero))
+
+
+def hub_of(body) -> tuple:
+    """(hub_height, hub_x, hub_y) [m] of a body."""
+    return (body.hub_height, body.hub_x, body.hub_y)
 
 
 def moments(blade, aero) -> dict:
@@ -127,11 +177,13 @@ def moments(blade, aero) -> dict:
     return {name: (high ** (k + 1) - low ** (k + 1)) / (k + 1) for k, name in enumerate(SPAN_ARGUMENTS)}
 
 
-def solve_trim(rotor, body, speeds, unit_kg: float = 1.0) -> Trim:
+def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = None) -> Trim:
     """The hover trim of ``rotor`` (on ``body``, which stays at rest) at ``speeds`` [rad/s].
 
     ``rotor`` and ``body`` are in a mass unit of ``unit_kg`` kg
     (:class:`groundres.model.units.MassUnit`); the thrust and torque returned are SI.
+    Newton's method starts from zero, or from ``guess`` (trims found at other speeds)
+    interpolated to each speed.
 
     Raises
     ------
@@ -146,11 +198,19 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0) -> Trim:
     kinds = list(dict.fromkeys(rotor.blades))
     which = [kinds.index(b) for b in rotor.blades]
     count = np.bincount(which, minlength=len(kinds)).astype(float)
-    fixed = {**aero_arguments(aero)}
-    per_kind = [{**blade_arguments(b, body), **moments(b, aero)} for b in kinds]
-    trim_loads = generated("trim_in_air")
+    per_kind = [coefficients("trim_in_air", b, hub_of(body), aero) for b in kinds]
+
+    def trim_loads(w, j, lam_j, beta_j, zeta_j):  # (4, 4, m)
+        return air_values("trim_in_air", per_kind[j], w, lam_j, beta_j, zeta_j)
+
     k = len(kinds)
     beta, zeta, lam = np.zeros((n_s, k)), np.zeros((n_s, k)), np.zeros(n_s)
+    if guess is not None and len(guess.rotor_speed):
+        first = [which.index(j) for j in range(k)]  # (a blade of each kind)
+        lam = np.interp(speeds, guess.rotor_speed, guess.inflow_ratio)
+        for j, blade in enumerate(first):
+            beta[:, j] = np.interp(speeds, guess.rotor_speed, guess.coning[:, blade])
+            zeta[:, j] = np.interp(speeds, guess.rotor_speed, guess.trim_lag[:, blade])
     spinning = speeds > 0
     area = math.pi * aero.tip_radius**2
     momentum = aero.air_density * area * (speeds * aero.tip_radius) ** 2  # T = momentum * C_T
@@ -161,17 +221,7 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0) -> Trim:
         if active.size == 0:
             break
         w = speeds[active]
-        loads = [
-            trim_loads(
-                w,
-                **per_kind[j],
-                **fixed,
-                inflow_ratio=lam[active],
-                coning=beta[active, j],
-                trim_lag=zeta[active, j],
-            )
-            for j in range(k)
-        ]  # each (4, 4, m)
+        loads = [trim_loads(w, j, lam[active], beta[active, j], zeta[active, j]) for j in range(k)]
         m = active.size
         size = 2 * k + 1
         residual = np.zeros((m, size))
@@ -223,14 +273,7 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0) -> Trim:
     if live.any():
         w = speeds[live]
         for j in range(k):
-            value = trim_loads(
-                w,
-                **per_kind[j],
-                **fixed,
-                inflow_ratio=lam[live],
-                coning=beta[live, j],
-                trim_lag=zeta[live, j],
-            )
+            value = trim_loads(w, j, lam[live], beta[live, j], zeta[live, j])
             thrust[live] += count[j] * value[2, 0]
             torque[live] += count[j] * value[3, 0]
     return Trim(

@@ -35,6 +35,8 @@ trim lag and inflow) let the numeric core find the trim by Newton's method.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from .derive import (
@@ -43,7 +45,6 @@ from .derive import (
     HARMONICS,
     LOCAL_DOFS,
     RATES,
-    BladeEquations,
     _rot_x,
     _rot_y,
     _rot_z,
@@ -180,8 +181,8 @@ def _as_expr(poly):
 
 
 def _harmonic_split(poly):
-    """The HARMONICS coefficients (expressions) of a polynomial in cos psi, sin psi of
-    degree two at most."""
+    """The HARMONICS coefficients (polynomials without the azimuth) of a polynomial in
+    cos psi, sin psi of degree two at most."""
     _, c, s = _PAIRS[0]
     ic, js = _INDEX[c], _INDEX[s]
     parts = {}
@@ -193,8 +194,7 @@ def _harmonic_split(poly):
     if any(i + j > 2 for i, j in parts):
         raise ValueError("harmonic above the second in a blade coefficient")
     get = lambda i, j: parts.get((i, j), _RING.zero)  # noqa: E731
-    values = (get(0, 0) + get(2, 0) / 2, get(1, 0), get(0, 1), get(2, 0) / 2, get(1, 1) / 2)
-    return tuple(_as_expr(v) for v in values)
+    return (get(0, 0) + get(2, 0) / 2, get(1, 0), get(0, 1), get(2, 0) / 2, get(1, 1) / 2)
 
 
 def _span_integral(poly):
@@ -323,8 +323,79 @@ def _structure():
     return m_t, damping, stiffness
 
 
-def derive_blade_in_air() -> BladeEquations:
-    """One blade's linear equations in air, about its hover trim (harmonic matrices).
+@dataclass(frozen=True)
+class Terms:
+    """A derived array split into monomials of the trim state (:data:`STATE`).
+
+    ``value[index] = sum_k monomial_k(state) * entries[(k,) + index]``, with
+    ``monomial_k = prod_j state_j ** monomials[k][j]``: every entry is a
+    polynomial in the rotor speed, the inflow ratio, the coning and trim lag
+    and their cosines and sines, whose coefficients depend on the blade, the
+    body and the air only. The numeric core evaluates the coefficients once
+    per rotor and the monomials at every speed: a product, not the long
+    expressions, per speed.
+
+    Attributes
+    ----------
+    entries : dict
+        ``(k,) + index`` -> SymPy expression in the remaining arguments.
+    monomials : tuple of tuple of int
+        The exponents of each monomial over STATE.
+    array_shape : tuple
+        The array's shape (without the monomials' axis).
+    """
+
+    entries: dict
+    monomials: tuple
+    array_shape: tuple
+
+    @property
+    def full_shape(self) -> tuple:
+        """(K,) + array_shape: the generated function's array."""
+        return (len(self.monomials),) + self.array_shape
+
+
+#: The trim state the air's arrays depend on at run time: the exponents of Terms.monomials
+#: run over these, in order (codegen writes them beside the generated functions).
+STATE = (
+    "rotor_speed",
+    "inflow_ratio",
+    "coning",
+    "trim_lag",
+    "cos_coning",
+    "sin_coning",
+    "cos_trim_lag",
+    "sin_trim_lag",
+)
+
+
+def _state_gens():
+    a = AERO_SYMBOLS
+    trig = [sym for _, c, s in _PAIRS[1:] for sym in (c, s)]
+    return [rotor_speed, a["inflow_ratio"], a["coning"], a["trim_lag"], *trig]
+
+
+def _terms(polys: dict, shape: tuple) -> Terms:
+    """Split polynomials (index -> polynomial) into Terms over the trim state."""
+    gens = [_INDEX[g] for g in _state_gens()]
+    grouped = {}
+    for index, poly in polys.items():
+        for monom, coeff in _reduced(poly).terms():
+            key = tuple(monom[g] for g in gens)
+            rest = list(monom)
+            for g in gens:
+                rest[g] = 0
+            part = _RING({tuple(rest): coeff})
+            grouped[(key, index)] = grouped.get((key, index), _RING.zero) + part
+    order = sorted({key for key, _ in grouped})
+    number = {key: k for k, key in enumerate(order)}
+    entries = {(number[key],) + index: _as_expr(v) for (key, index), v in grouped.items() if v}
+    return Terms(dict(sorted(entries.items())), tuple(order), shape)
+
+
+def derive_blade_in_air() -> Terms:
+    """One blade's linear equations in air, about its hover trim, as Terms of shape
+    (3, 5, 8, 8): [mass, damping, stiffness] x HARMONICS x LOCAL_DOFS x LOCAL_DOFS.
 
     The structure linearised about the trim (the coning and trim lag exact in
     its kinematics) plus the air's stiffness and damping (:func:`derive_air_loads`).
@@ -332,18 +403,20 @@ def derive_blade_in_air() -> BladeEquations:
     mass, damping, stiffness = _structure()
     air_k, air_c = derive_air_loads()
     n = len(LOCAL_DOFS)
-
-    def split(matrix):
-        entries = [_harmonic_split(matrix[i][j]) for i in range(n) for j in range(n)]
-        return tuple(sp.Matrix(n, n, [e[h] for e in entries]) for h in range(len(HARMONICS)))
-
     total_c = [[damping[i][j] + air_c[i][j] for j in range(n)] for i in range(n)]
     total_k = [[stiffness[i][j] + air_k[i][j] for j in range(n)] for i in range(n)]
-    return BladeEquations(split(mass), split(total_c), split(total_k))
+    polys = {}
+    for g, matrix in enumerate((mass, total_c, total_k)):
+        for i in range(n):
+            for j in range(n):
+                for h, part in enumerate(_harmonic_split(matrix[i][j])):
+                    if part:
+                        polys[(g, h, i, j)] = part
+    return _terms(polys, (3, len(HARMONICS), n, n))
 
 
-def derive_trim() -> sp.Matrix:
-    """The trim loads of one blade and their derivatives, shape (4, 4).
+def derive_trim() -> Terms:
+    """The trim loads of one blade and their derivatives, as Terms of shape (4, 4).
 
     Column 0 holds, at a trial trim (coning, trim lag, inflow ratio; body at
     rest, blade still in the hub's axes): the flap and the lag residual
@@ -367,11 +440,25 @@ def derive_trim() -> sp.Matrix:
     moment = _cross([x - h for x, h in zip(trim.position, hub)], trim.force)  # about the hub centre
     loads.append(-_span_integral(_dot(moment, trim.shaft)))
     ic, js = _INDEX[_PAIRS[0][1]], _INDEX[_PAIRS[0][2]]
-    out = []
-    for value in loads:
+    gen = {sym: _RING.gens[_INDEX[sym]] for _, c, s in _PAIRS[1:] for sym in (c, s)}
+    (_, c_beta, s_beta), (_, c_zeta, s_zeta) = _PAIRS[1:]
+
+    def d_angle(poly, angle, c, s):  # d/d(angle) with its cosine and sine
+        bare = _RING.gens[_INDEX[angle]]
+        return _reduced(poly.diff(bare) - gen[s] * poly.diff(gen[c]) + gen[c] * poly.diff(gen[s]))
+
+    polys = {}
+    for row, value in enumerate(loads):
         value = _reduced(value)
         if any(m[ic] or m[js] for m in value.keys()):
             raise ValueError("a trim load depends on the azimuth")
-        out.append(_as_expr(value))
-    unknowns = [a[k] for k in TRIM_UNKNOWNS]
-    return sp.Matrix([[v] + [sp.expand(sp.diff(v, u)) for u in unknowns] for v in out])
+        columns = (
+            value,
+            d_angle(value, a["coning"], c_beta, s_beta),
+            d_angle(value, a["trim_lag"], c_zeta, s_zeta),
+            _reduced(value.diff(_RING.gens[_INDEX[a["inflow_ratio"]]])),
+        )
+        for col, part in enumerate(columns):
+            if part:
+                polys[(row, col)] = part
+    return _terms(polys, (len(TRIM_LOADS), 1 + len(TRIM_UNKNOWNS)))

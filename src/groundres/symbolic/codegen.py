@@ -34,6 +34,7 @@ differ from what the derivation gives.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from pathlib import Path
 
@@ -63,6 +64,18 @@ SYMPY_MODULE = "generated_sympy.py"
 #: The blade in air and its trim, NumPy only (long: imported only for a case in air).
 AIR_MODULE = "generated_air.py"
 AIR_FUNCTIONS = ("blade_in_air", "trim_in_air")
+#: The trim state the functions in air take at every speed (:data:`groundres.symbolic.aero.STATE`);
+#: their other arguments are the rotor's, the body's and the air's, fixed over a sweep.
+AIR_STATE = (
+    "rotor_speed",
+    "inflow_ratio",
+    "coning",
+    "trim_lag",
+    "cos_coning",
+    "sin_coning",
+    "cos_trim_lag",
+    "sin_trim_lag",
+)
 _HERE = Path(__file__).resolve().parent
 
 # Generated code is neither formatted nor linted by ruff: its text must stay
@@ -85,27 +98,18 @@ def _functions():
         "leg_matrix": (derive.LEG_SYMBOLS, (6, 6), derive.derive_leg),
         "rod_to_hub": (_rod_symbols(to_hub=True), (2,), lambda: derive.derive_rod(True)),
         "rod_to_blade": (_rod_symbols(to_hub=False), (4,), lambda: derive.derive_rod(False)),
-        "blade_in_air": (
-            {
-                "rotor_speed": derive.rotor_speed,
-                **derive.BLADE_SYMBOLS,
-                **aero.AERO_SYMBOLS,
-                **aero.SPAN_SYMBOLS,
-            },
-            (3, 5, len(derive.LOCAL_DOFS), len(derive.LOCAL_DOFS)),
-            aero.derive_blade_in_air,
-        ),
-        "trim_in_air": (
-            {
-                "rotor_speed": derive.rotor_speed,
-                **derive.BLADE_SYMBOLS,
-                **aero.AERO_SYMBOLS,
-                **aero.SPAN_SYMBOLS,
-            },
-            (len(aero.TRIM_LOADS), 1 + len(aero.TRIM_UNKNOWNS)),
-            aero.derive_trim,
-        ),
+        "blade_in_air": (_fixed_symbols(), None, aero.derive_blade_in_air),
+        "trim_in_air": (_fixed_symbols(), None, aero.derive_trim),
     }
+
+
+def _fixed_symbols() -> dict:
+    """The arguments of the functions in air that stay fixed over a sweep (all but AIR_STATE)."""
+    from . import aero, derive
+
+    state = ("inflow_ratio", "coning", "trim_lag")
+    fixed = {k: v for k, v in aero.AERO_SYMBOLS.items() if k not in state}
+    return {**derive.BLADE_SYMBOLS, **fixed, **aero.SPAN_SYMBOLS}
 
 
 def _rod_symbols(to_hub: bool) -> dict:
@@ -142,6 +146,55 @@ def generated(name: str):
     return getattr(generated_numpy, name)
 
 
+def air_coefficients(name: str, **fixed):
+    """The coefficients of a function in air (``blade_in_air`` or ``trim_in_air``) for one
+    blade: an array (K, ...) over its K monomials of the trim state, from the blade's, the
+    body's and the air's arguments (numbers, SI; :func:`_fixed_symbols`)."""
+    return generated(name)(**fixed)
+
+
+@functools.cache
+def _exponents(name: str):
+    """The monomials' exponents of a function in air, (K, 8) int, and the largest of each."""
+    import numpy as np
+
+    from . import generated_air
+
+    exponents = np.array(getattr(generated_air, f"{name.upper()}_MONOMIALS"), dtype=np.intp)
+    return exponents, exponents.max(axis=0)
+
+
+def air_values(name: str, coefficients, rotor_speed, inflow_ratio, coning, trim_lag):
+    """The function in air at every speed: ``sum_k monomial_k(state) coefficients[k]``, shape
+    (...) + (n_s,) like the vacuum's functions, from :func:`air_coefficients` and the trim state
+    at each speed (arrays (n_s,): [rad/s], [-], [rad], [rad])."""
+    import numpy as np
+
+    exponents, largest = _exponents(name)
+    coning, trim_lag = np.asarray(coning, dtype=float), np.asarray(trim_lag, dtype=float)
+    state = np.broadcast_arrays(
+        rotor_speed,
+        inflow_ratio,
+        coning,
+        trim_lag,
+        np.cos(coning),
+        np.sin(coning),
+        np.cos(trim_lag),
+        np.sin(trim_lag),
+    )
+    n_s = state[0].size
+    monomials = np.ones((n_s, len(exponents)))
+    for j, values in enumerate(state):  # (powers by repeated products: exact small whole powers)
+        if largest[j] == 0:
+            continue
+        powers = np.ones((largest[j] + 1, n_s))
+        for e in range(1, largest[j] + 1):
+            powers[e] = powers[e - 1] * values.reshape(-1)
+        monomials *= powers[exponents[:, j]].T
+    flat = coefficients.reshape(len(exponents), -1)
+    return np.moveaxis((monomials @ flat).reshape((n_s,) + coefficients.shape[1:]), 0, -1)
+
+
 def blade_equations():
     """The symbolic blade equations (BladeEquations), rebuilt from the generated module."""
     import sympy as sp
@@ -172,7 +225,9 @@ def symbolic(name: str):
 
 def _as_array(name: str, derived):
     """(index, expression) of every nonzero entry of a derivation's result, in index order."""
-    if name in ("blade_harmonics", "blade_in_air"):
+    if name in AIR_FUNCTIONS:  # (Terms: the coefficients of each monomial of the trim state)
+        return list(derived.entries.items())
+    if name == "blade_harmonics":
         return [
             ((g, h, i, j), matrix[i, j])
             for g, group in enumerate(GROUPS)
@@ -234,9 +289,16 @@ def numpy_source(derived: dict, air: bool = False) -> str:
         else "Derived matrices (blade equations, rigid body, gear leg, damper rods) as NumPy code."
     )
     lines = [*_header(what), "import numpy"]
+    if air:
+        lines.append(
+            f"\n#: The trim state the monomials run over (codegen.AIR_STATE).\nSTATE = {AIR_STATE!r}"
+        )
     for name, (symbols, shape, _) in _functions().items():
         if (name in AIR_FUNCTIONS) != air:
             continue
+        if air:  # (the coefficients of the monomials, and the monomials' exponents over STATE)
+            shape = derived[name].full_shape
+            lines += ["", "", f"{name.upper()}_MONOMIALS = {derived[name].monomials!r}"]
         entries = _nonzero(name, derived[name])
         shared, reduced = sp.cse([expr for _, expr in entries], symbols=sp.numbered_symbols("t_"))
         args = ", ".join(symbols)

@@ -396,6 +396,21 @@ def _in_air(
     (:meth:`groundres.model.system.System.frozen`), whose matrices are again polynomials in
     the speed."""
     damping = per_speed(damping, len(speeds))
+    if not len(speeds):  # (nothing to solve: the shapes of the system frozen at rest)
+        return solve(
+            system.frozen(0.0),
+            speeds,
+            harmonics,
+            tolerance,
+            scale,
+            tableau,
+            lift,
+            progress,
+            damping,
+            sym,
+            compiled,
+            bounds,
+        )
     parts = []
     for i, w in enumerate(speeds):
         c = None if damping is None else damping[i : i + 1]
