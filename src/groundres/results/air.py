@@ -85,7 +85,7 @@ def trim_block(result) -> dict:
         "rotor_speed": [float(w) for w in result.rotor_speed],
         "units": {name: unit for name, (unit, _) in TRIM_COLUMNS.items()} | {"rotor_speed": "rad/s"},
         "note": (
-            "the body at rest, each blade still in the hub's axes at its coning and trim lag, uniform "
+            "The body at rest, each blade still in the hub's axes at its coning and trim lag, uniform "
             "inflow from momentum theory (C_T = 2 lambda |lambda|)"
             + ("" if alike else "; coning and trim_lag per blade (rows: speeds, columns: blades)")
         ),

@@ -144,8 +144,14 @@ class _TimeInvariant(Solver):
         """
         speeds = np.asarray(speeds, dtype=float)
         if self.system.rotor.aero is not None:
-            # In air the trim changes with the speed: no polynomial in Omega holds the matrices.
-            return self.form(speeds)
+            # In air the trim changes with the speed: no polynomial in Omega holds the matrices;
+            # a trial lag damping is a line between the undamped and the unit one.
+            line = self.__dict__.get("_air_line")
+            if line is None:
+                return self._kept_form(speeds)
+            (zero, one), c = line
+            (m, c0, k0), (_, c1, k1) = zero._kept_form(speeds), one._kept_form(speeds)
+            return m, c0 + c * (c1 - c0), k0 + c * (k1 - k0)
         with np.errstate(divide="ignore"):
             band = np.exp2(np.ceil(np.log2(np.maximum(speeds, 1e-300))))
         m0 = self._fit(float(band[0]))[0] if len(speeds) else self._fit(1.0)[0]
@@ -157,6 +163,30 @@ class _TimeInvariant(Solver):
             x = (speeds[sel] / b)[:, None, None]
             c[sel], k[sel] = c0 + x * c1, k0 + x * (k1 + x * k2)
         return m, c, k
+
+    def _kept_form(self, speeds):
+        """The form at ``speeds``, kept for the last few sets of speeds asked (in air: scans and
+        searches come back to the same speeds)."""
+        kept = self.__dict__.setdefault("_forms", {})
+        key = np.asarray(speeds, dtype=float).tobytes()
+        if key not in kept:
+            if len(kept) >= 256:
+                kept.pop(next(iter(kept)))
+            kept[key] = self.form(speeds)
+        return kept[key]
+
+    def with_lag_damping(self, value, in_unit=False):
+        """As :meth:`Solver.with_lag_damping`; in air the trial's form is a line between the
+        undamped and the unit lag damping, whose forms are kept (the damping enters linearly)."""
+        new = super().with_lag_damping(value, in_unit)
+        if self.system.rotor.aero is not None:
+            value = value if in_unit else self.system.mass_unit.from_si(value)
+            if "_air_ends" not in self.__dict__:
+                self._air_ends = tuple(
+                    super(_TimeInvariant, self).with_lag_damping(c, True) for c in (0.0, 1.0)
+                )
+            new._air_line = (self._air_ends, value)
+        return new
 
     def _scan_roots(self, speeds):
         mats = self._fitted(speeds)
