@@ -164,10 +164,9 @@ def _exponents(name: str):
     return exponents, exponents.max(axis=0)
 
 
-def air_values(name: str, coefficients, rotor_speed, inflow_ratio, coning, trim_lag):
-    """The function in air at every speed: ``sum_k monomial_k(state) coefficients[k]``, shape
-    (...) + (n_s,) like the vacuum's functions, from :func:`air_coefficients` and the trim state
-    at each speed (arrays (n_s,): [rad/s], [-], [rad], [rad])."""
+def air_monomials(name: str, rotor_speed, inflow_ratio, coning, trim_lag):
+    """The monomials of the trim state of a function in air at every speed, (n_s, K) (arrays
+    (n_s,): [rad/s], [-], [rad], [rad])."""
     import numpy as np
 
     exponents, largest = _exponents(name)
@@ -191,8 +190,18 @@ def air_values(name: str, coefficients, rotor_speed, inflow_ratio, coning, trim_
         for e in range(1, largest[j] + 1):
             powers[e] = powers[e - 1] * values.reshape(-1)
         monomials *= powers[exponents[:, j]].T
-    flat = coefficients.reshape(len(exponents), -1)
-    return np.moveaxis((monomials @ flat).reshape((n_s,) + coefficients.shape[1:]), 0, -1)
+    return monomials
+
+
+def air_values(name: str, coefficients, rotor_speed, inflow_ratio, coning, trim_lag):
+    """The function in air at every speed: ``sum_k monomial_k(state) coefficients[k]``, shape
+    (...) + (n_s,) like the vacuum's functions, from :func:`air_coefficients` and the trim state
+    at each speed (arrays (n_s,): [rad/s], [-], [rad], [rad])."""
+    import numpy as np
+
+    monomials = air_monomials(name, rotor_speed, inflow_ratio, coning, trim_lag)
+    flat = coefficients.reshape(len(coefficients), -1)
+    return np.moveaxis((monomials @ flat).reshape((len(monomials),) + coefficients.shape[1:]), 0, -1)
 
 
 def blade_equations():

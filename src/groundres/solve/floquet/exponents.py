@@ -39,6 +39,7 @@ import numpy as np
 from ...errors import SpeedRangeError
 from ...model.system import System
 from ..modal import state_matrix
+from .air import in_air
 from .coefficients import frozen_rates, per_speed, rates_per_radian
 from .lifting import lifted_eig
 from .symmetry import Symmetry, symmetry
@@ -246,19 +247,20 @@ def solve(
     """
     speeds = np.asarray(speeds, dtype=float)
     if system.rotor.aero is not None and system._frozen is None:
-        return _in_air(
+        return in_air(
+            solve,
             system,
             speeds,
-            harmonics,
-            tolerance,
-            scale,
-            tableau,
-            lift,
-            progress,
-            damping,
-            sym,
-            compiled,
-            bounds,
+            damping=damping,
+            progress=progress,
+            harmonics=harmonics,
+            tolerance=tolerance,
+            scale=scale,
+            tableau=tableau,
+            lift=lift,
+            sym=sym,
+            compiled=compiled,
+            bounds=bounds,
         )
     sym = symmetry(system) if sym is None else sym
     damping = per_speed(damping, len(speeds))
@@ -386,71 +388,6 @@ def solve(
     orders = np.arange(-harmonics, harmonics + 1)
     return FloquetSolution(
         exponent, multiplier, vector, out_h, orders, sym, steps, speeds, lifted, key, lower, upper
-    )
-
-
-def _in_air(
-    system, speeds, harmonics, tolerance, scale, tableau, lift, progress, damping, sym, compiled, bounds
-):
-    """:func:`solve` of a rotor in air: speed by speed, each on the system frozen at its trim
-    (:meth:`groundres.model.system.System.frozen`), whose matrices are again polynomials in
-    the speed."""
-    damping = per_speed(damping, len(speeds))
-    if not len(speeds):  # (nothing to solve: the shapes of the system frozen at rest)
-        return solve(
-            system.frozen(0.0),
-            speeds,
-            harmonics,
-            tolerance,
-            scale,
-            tableau,
-            lift,
-            progress,
-            damping,
-            sym,
-            compiled,
-            bounds,
-        )
-    parts = []
-    for i, w in enumerate(speeds):
-        c = None if damping is None else damping[i : i + 1]
-        parts.append(
-            solve(
-                system.frozen(w),
-                speeds[i : i + 1],
-                harmonics,
-                tolerance,
-                scale,
-                tableau,
-                lift,
-                None,
-                c,
-                sym,
-                compiled,
-                bounds,
-            )
-        )
-        if progress is not None:
-            progress(i + 1, len(speeds))
-    first = parts[0]
-
-    def joined(name):
-        values = [getattr(p, name) for p in parts]
-        return None if values[0] is None else np.concatenate(values)
-
-    return FloquetSolution(
-        joined("exponent"),
-        joined("multiplier"),
-        joined("vector"),
-        joined("harmonics"),
-        first.orders,
-        first.symmetry,
-        joined("steps"),
-        speeds,
-        joined("lifted"),
-        joined("key"),
-        joined("real_lower"),
-        joined("real_upper"),
     )
 
 
