@@ -442,10 +442,8 @@ def test_a_collective_sweep_is_a_study_of_aero_collective():
     from groundres import analyze
     from groundres.studies.study import study
 
-    text = (
-        CASE
-        + "\n[aero]\nair_density = 1.225\nlift_slope = 5.7\nchord = 0.35\ntip_radius = 5.0\ncollective = 2.0\n"
-    )
+    air = "air_density = 1.225\nlift_slope = 5.7\nchord = 0.35\ntip_radius = 5.0\ncollective = 2.0\n"
+    text = CASE + "\n[aero]\n" + air
     import tomllib
 
     case = parse_case(tomllib.loads(text), "air", text)
