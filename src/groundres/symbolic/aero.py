@@ -325,7 +325,7 @@ def _structure():
 
 @dataclass(frozen=True)
 class Terms:
-    """A derived array split into monomials of the trim state (:data:`STATE`).
+    """A derived array split into monomials of the trim state (:data:`groundres.symbolic.codegen.AIR_STATE`).
 
     ``value[index] = sum_k monomial_k(state) * entries[(k,) + index]``, with
     ``monomial_k = prod_j state_j ** monomials[k][j]``: every entry is a
@@ -340,7 +340,7 @@ class Terms:
     entries : dict
         ``(k,) + index`` -> SymPy expression in the remaining arguments.
     monomials : tuple of tuple of int
-        The exponents of each monomial over STATE.
+        The exponents of each monomial over the trim state.
     array_shape : tuple
         The array's shape (without the monomials' axis).
     """
@@ -355,21 +355,9 @@ class Terms:
         return (len(self.monomials),) + self.array_shape
 
 
-#: The trim state the air's arrays depend on at run time: the exponents of Terms.monomials
-#: run over these, in order (codegen writes them beside the generated functions).
-STATE = (
-    "rotor_speed",
-    "inflow_ratio",
-    "coning",
-    "trim_lag",
-    "cos_coning",
-    "sin_coning",
-    "cos_trim_lag",
-    "sin_trim_lag",
-)
-
-
 def _state_gens():
+    """The trim state's symbols, in the order of the monomials' exponents: codegen.AIR_STATE
+    (rotor_speed, inflow_ratio, coning, trim_lag, and the cosines and sines of the angles)."""
     a = AERO_SYMBOLS
     trig = [sym for _, c, s in _PAIRS[1:] for sym in (c, s)]
     return [rotor_speed, a["inflow_ratio"], a["coning"], a["trim_lag"], *trig]

@@ -64,7 +64,7 @@ SYMPY_MODULE = "generated_sympy.py"
 #: The blade in air and its trim, NumPy only (long: imported only for a case in air).
 AIR_MODULE = "generated_air.py"
 AIR_FUNCTIONS = ("blade_in_air", "trim_in_air")
-#: The trim state the functions in air take at every speed (:data:`groundres.symbolic.aero.STATE`);
+#: The trim state the functions in air take at every speed (in the order of the monomials' exponents);
 #: their other arguments are the rotor's, the body's and the air's, fixed over a sweep.
 AIR_STATE = (
     "rotor_speed",
