@@ -361,6 +361,8 @@ def test_air_damps_the_regressive_flap_instability_of_the_vacuum_rotor():
         ({"air_density": -1.0}, "[aero] air_density = -1.0"),
         ({"air_density": 1.2, "inflow": "dynamik"}, "did you mean 'dynamic'"),
         ({"air_density": 1.2, "drag_coefficient": 1.5}, "[aero] drag_coefficient = 1.5"),
+        ({"air_density": 1.2, "tip_radius": 1e300}, "[aero] tip_radius = 1e+300: must be at most"),
+        ({"lock_number": 1e6}, "[aero] lock_number = 1000000.0: gives an air density"),
     ],
 )
 def test_bad_aero_values_name_the_key(aero, words):

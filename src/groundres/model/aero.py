@@ -21,6 +21,16 @@ from .validate import finite, non_negative, positive
 INFLOWS = ("uniform", "dynamic")
 #: Largest pitch [deg] anywhere on the span: strip theory here takes small angles.
 MAX_PITCH_DEG = 30.0
+#: Largest value of each size of the air and the blade's section: far beyond any rotor, and
+#: small enough that the loads (which grow as R^5) stay within floating point.
+LARGEST = {"air_density": 1e4, "lift_slope": 100.0, "chord": 1e4, "tip_radius": 1e4, "root_cutout": 1e4}
+LARGEST_UNITS = {
+    "air_density": "kg/m^3",
+    "lift_slope": "1/rad",
+    "chord": "m",
+    "tip_radius": "m",
+    "root_cutout": "m",
+}
 #: Largest magnitude of K_Pbeta and K_Pzeta (tan 80 deg is 5.7).
 MAX_COUPLING = 6.0
 
@@ -71,6 +81,11 @@ class Aero:
     def __post_init__(self):
         non_negative(self, "air_density", "root_cutout", "drag_coefficient")
         positive(self, "lift_slope", "chord", "tip_radius")
+        for key, largest in LARGEST.items():
+            if getattr(self, key) > largest:
+                raise ParameterError(
+                    key, getattr(self, key), f"must be at most {largest:g} {LARGEST_UNITS[key]}"
+                )
         if self.tip_radius <= self.root_cutout:
             raise ParameterError(
                 "tip_radius",

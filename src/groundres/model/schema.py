@@ -349,6 +349,11 @@ def _aero(data: dict, rotor: Rotor) -> Rotor:
     try:
         aero = Aero(inflow=inflow, lock_given="lock_number" in data, **values)
     except ParameterError as err:
+        if err.key == "air_density" and "lock_number" in data:  # (the density derived from it)
+            raise CaseError(
+                f"[aero] lock_number = {shown(data['lock_number'])}: gives an air density of "
+                f"{err.value:.6g} kg/m^3 with this blade, which {err.allowed}"
+            ) from None
         value = data.get(err.key, err.value)
         raise CaseError(f"[aero] {err.key} = {shown(value)}: {err.allowed}") from None
     try:
