@@ -31,7 +31,8 @@ EIGEN = ["model-rotor-hover-9deg", "model-rotor-hover-9deg-pitch-lag", "helicopt
 def failed(name: str, points: int):
     """A shipped case in air with blade 1's lag damper failed (Floquet), on ``points`` speeds."""
     text, source = case_text(name)
-    text = text.replace("points = 400", f"points = {points}") + "\n[[rotor.blade]]\nindex = 1\nlag_damping = 0.0\n"
+    failure = "\n[[rotor.blade]]\nindex = 1\nlag_damping = 0.0\n"
+    text = text.replace("points = 400", f"points = {points}") + failure
     return parse_case(tomllib.loads(text), source, text)
 
 
