@@ -77,9 +77,9 @@ def choose_method(case, option: str | None = None) -> Method:
     option = option or case.sweep.method
     if option not in OPTIONS:
         raise MethodError(key, option, f"must be one of {list(OPTIONS)}")
-    form = time_invariant(case)
     if option == "floquet":
         return Method.FLOQUET
+    form = time_invariant(case)
     if option == "eigen" and form is None:
         raise MethodError(
             key,

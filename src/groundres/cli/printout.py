@@ -9,7 +9,7 @@ values within the growth threshold of zero print as neutral, not as numbers
 from __future__ import annotations
 
 from ..model.units import FREQUENCY_UNITS, fmt_speed, ref_note, significant
-from ..results.air import DEUTSCH_IN_AIR
+from ..results.air import DEUTSCH_IN_AIR, shown_rows
 from ..results.summary import SWEEP_END_NOTE, SWEEP_START_NOTE, no_exact_reason, open_below_note
 from .common import plain
 
@@ -236,15 +236,8 @@ def air_header(summary: dict) -> str:
     )
 
 
-#: Rows of the trim table the terminal shows (summary.json and modes.nc hold every speed).
-TRIM_ROWS = 6
-
-
 def trim_table(summary: dict, sweep):
-    """The hover trim at a few speeds spread over the sweep."""
-    trim = summary["trim"]
-    speeds = trim["rotor_speed"]
-    rows = sorted({round(i * (len(speeds) - 1) / (TRIM_ROWS - 1)) for i in range(TRIM_ROWS)})
+    """The hover trim at a few speeds spread over the sweep (:func:`groundres.results.air.shown_rows`)."""
     table = simple_table("Hover trim (every speed in summary.json and modes.nc)")
     for head in (
         "speed",
@@ -257,21 +250,11 @@ def trim_table(summary: dict, sweep):
         "torque\n[N m]",
     ):
         table.add_column(head, justify="right")
-
-    def first(values, i):  # (per blade where the blades differ: blade 1's, the note says so)
-        value = values[i]
-        return value[0] if isinstance(value, list) else value
-
-    for i in rows:
+    for i, row in shown_rows(summary["trim"]):
+        digits = {"thrust": 5, "torque": 5}
         table.add_row(
-            _speed_cell(speeds[i], sweep),
-            f"{trim['inflow_ratio'][i]:.4g}",
-            f"{trim['thrust_coefficient'][i]:.4g}",
-            f"{trim['blade_loading'][i]:.4g}",
-            f"{first(trim['coning'], i):.4g}",
-            f"{first(trim['trim_lag'], i):.4g}",
-            f"{trim['thrust'][i]:.5g}",
-            f"{trim['torque'][i]:.5g}",
+            _speed_cell(summary["trim"]["rotor_speed"][i], sweep),
+            *(f"{value:.{digits.get(name, 4)}g}" for name, value in row.items()),
         )
     return table
 

@@ -243,14 +243,24 @@ def _too_long_number(text: str) -> str:
 _TABLE_HEADER = re.compile(r"^\s*\[")
 
 
+def table_lines(lines: list[str], table: str) -> tuple[int, int] | None:
+    """(first, end) of the lines of ``[table]`` in a case file's ``lines`` (its header line and
+    the lines up to the next header), or None where it is not written under its own header."""
+    start = next((i for i, line in enumerate(lines) if line.strip() == f"[{table}]"), None)
+    if start is None:
+        return None
+    end = next((i for i in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[i])), len(lines))
+    return start, end
+
+
 def without_table(text: str, table: str, why: str) -> str:
     """A case file's ``text`` with its ``[table]`` commented out line by line, under a comment
     saying ``why`` (the text as it is, with that comment on top, where the table is not
     written under its own header)."""
     lines = text.splitlines()
-    start = next((i for i, line in enumerate(lines) if line.strip() == f"[{table}]"), None)
-    if start is None:
+    span = table_lines(lines, table)
+    if span is None:
         return f"# {why}\n{text}"
-    end = next((i for i in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[i])), len(lines))
+    start, end = span
     lines[start:end] = [f"# {why}"] + [f"# {line}" if line else "#" for line in lines[start:end]]
     return "\n".join(lines) + "\n"

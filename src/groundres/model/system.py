@@ -155,9 +155,14 @@ class System:
         speeds = np.asarray(speeds, dtype=float)
         if self._frozen is not None:
             return self._frozen.at(speeds)
+        return self._trim_table()(speeds)
+
+    def _trim_table(self) -> trim_module.TrimTable:
+        """The trims this system has found (made when first asked; shared with systems that
+        differ from it in their dampers only, :meth:`_damped`)."""
         if self._trims is None:
             self._trims = trim_module.TrimTable(self.rotor, self.body, self.mass_unit.kg)
-        return self._trims(speeds)
+        return self._trims
 
     def body_matrices(self) -> np.ndarray:
         """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
@@ -226,7 +231,7 @@ class System:
                 self._frozen_systems.pop(next(iter(self._frozen_systems)))
             held = copy.copy(self)
             held.grid_cache, held._trims, held._frozen_systems = {}, None, {}
-            held._frozen = self.trim(np.array([key])).single(0)
+            held._frozen = self.trim(np.array([key]))
             self._frozen_systems[key] = held
         return self._frozen_systems[key]
 
@@ -278,9 +283,8 @@ class System:
     def _damped(self, other: System) -> System:
         """``other``, which differs from this system only in its dampers, sharing its trims
         (dampers hold no load at the trim: the blades are still there)."""
-        if self._trims is None and self.rotor.aero is not None:
-            self._trims = trim_module.TrimTable(self.rotor, self.body, self.mass_unit.kg)
-        other._trims = self._trims
+        if self.rotor.aero is not None:
+            other._trims = self._trim_table()
         return other
 
     def lag_damping_split(self) -> System:

@@ -16,12 +16,13 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
 from ..errors import ModelRangeError
 from ..symbolic.codegen import BLADE_ARGUMENTS, SPAN_ARGUMENTS, air_coefficients, air_values
+from .speedtable import SpeedTable
 
 #: Most Newton steps; the trim converges in a handful (quadratically).
 MAX_STEPS = 60
@@ -65,33 +66,14 @@ class Trim:
         """Blade loading C_T / sigma [-]."""
         return self.thrust_coefficient / self.solidity
 
-    def single(self, index: int) -> Trim:
-        """The trim of one speed of the sweep (a sweep of one)."""
-        return self.take(np.arange(index, index + 1))
-
     def take(self, rows) -> Trim:
         """The trims of some speeds (``rows``: indices into this sweep)."""
         return Trim(*(getattr(self, f)[rows] for f in _PER_SPEED), self.solidity)
 
-    @staticmethod
-    def joined(parts, solidity: float) -> Trim:
-        """The trims of several sweeps as one, in the order given."""
-        return Trim(*(np.concatenate([getattr(p, f) for p in parts]) for f in _PER_SPEED), solidity)
-
     def at(self, speeds) -> Trim:
-        """This one speed's trim held at every one of ``speeds`` (its thrust and torque too)."""
-        n = np.size(speeds)
-        rows = np.zeros(n, int)
-        return Trim(
-            np.asarray(speeds, dtype=float),
-            self.inflow_ratio[rows],
-            self.coning[rows],
-            self.trim_lag[rows],
-            self.thrust[rows],
-            self.torque[rows],
-            self.thrust_coefficient[rows],
-            self.solidity,
-        )
+        """The first speed's trim held at every one of ``speeds`` (its thrust and torque too)."""
+        held = self.take(np.zeros(np.size(speeds), int))
+        return replace(held, rotor_speed=np.asarray(speeds, dtype=float).reshape(-1))
 
 
 #: The fields of a Trim that run over the speeds.
@@ -99,60 +81,29 @@ _PER_SPEED = ("rotor_speed", "inflow_ratio", "coning", "trim_lag", "thrust", "to
 
 
 class TrimTable:
-    """The trims a system has found, speed by speed, to answer later speeds from.
-
-    A sweep's scans and searches ask for the trim at thousands of single
-    speeds; each is found once (and a new one starts Newton's method from
-    the trims found nearest it, which it then needs few steps to polish).
-    """
-
-    #: Most speeds kept; beyond it the table starts afresh.
-    LIMIT = 100_000
+    """The trims a system has found, speed by speed, to answer later speeds from
+    (:class:`groundres.model.speedtable.SpeedTable`): each speed is trimmed once, and a new
+    one starts Newton's method from the trims found nearest it, which it then needs few
+    steps to polish."""
 
     def __init__(self, rotor, body, unit_kg: float):
-        self.rotor, self.body, self.unit_kg = rotor, body, unit_kg
-        self.known: Trim | None = None
+        solidity = rotor.aero.solidity(rotor.n_blades)
+
+        def found(speeds, table):
+            guess = None if table.speeds is None else Trim(*table.values, solidity)
+            trim = solve_trim(rotor, body, speeds, unit_kg, guess=guess)
+            return (getattr(trim, f) for f in _PER_SPEED)
+
+        self.table, self.solidity = SpeedTable(found), solidity
 
     def __call__(self, speeds) -> Trim:
-        speeds = np.asarray(speeds, dtype=float).reshape(-1)
-        known = self.known
-        if known is not None:
-            at = np.clip(np.searchsorted(known.rotor_speed, speeds), 0, len(known.rotor_speed) - 1)
-            hit = known.rotor_speed[at] == speeds
-            if hit.all():
-                return known.take(at)
-        else:
-            hit = np.zeros(speeds.shape, bool)
-        new = np.unique(speeds[~hit])
-        found = solve_trim(self.rotor, self.body, new, self.unit_kg, guess=known)
-        merged = (
-            found
-            if known is None or len(known.rotor_speed) > self.LIMIT
-            else Trim.joined([known, found], found.solidity)
-        )
-        order = np.argsort(merged.rotor_speed, kind="stable")
-        self.known = merged.take(order)
-        at = np.searchsorted(self.known.rotor_speed, speeds)
-        return self.known.take(at)
+        return Trim(*self.table(speeds), self.solidity)
 
 
 def aero_arguments(aero) -> dict:
-    """The aerodynamic arguments of the generated functions (radians, the case's mass unit)."""
-    return {
-        k: getattr(aero, k)
-        for k in (
-            "air_density",
-            "lift_slope",
-            "drag_coefficient",
-            "chord",
-            "tip_radius",
-            "root_cutout",
-            "collective",
-            "twist",
-            "pitch_flap",
-            "pitch_lag",
-        )
-    }
+    """The aerodynamic arguments of the generated functions (radians, the case's mass unit): every
+    number of the Aero."""
+    return {f.name: getattr(aero, f.name) for f in fields(aero) if f.name not in ("inflow", "lock_given")}
 
 
 @functools.lru_cache(maxsize=64)
@@ -216,7 +167,6 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     momentum = aero.air_density * area * (speeds * aero.tip_radius) ** 2  # T = momentum * C_T
     live = spinning & (aero.air_density > 0)
     active = np.flatnonzero(live)
-    loads = None
     for _ in range(MAX_STEPS):
         if active.size == 0:
             break
@@ -261,13 +211,9 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         active = active[biggest > TOLERANCE * scale]
     else:
         _no_trim(speeds[active[0]], rotor)
-    if (np.abs(beta) > math.pi / 2).any() or (np.abs(zeta) > math.pi / 2).any():
-        _no_trim(
-            speeds[
-                np.flatnonzero((np.abs(beta) > math.pi / 2).any(1) | (np.abs(zeta) > math.pi / 2).any(1))[0]
-            ],
-            rotor,
-        )
+    beyond = np.flatnonzero(((np.abs(beta) > math.pi / 2) | (np.abs(zeta) > math.pi / 2)).any(1))
+    if len(beyond):
+        _no_trim(speeds[beyond[0]], rotor)
     # Thrust and torque at the converged trim (zero where the rotor stands still or has no air).
     thrust, torque = np.zeros(n_s), np.zeros(n_s)
     if live.any():

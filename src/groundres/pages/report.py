@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.units import fmt_frequency, fmt_speed
+from ..results.air import shown_rows
 from .page import number, paragraphs, picture, render
 
 
@@ -319,26 +320,18 @@ def margin_rows(summary: dict, sweep) -> list[dict]:
     return rows
 
 
-#: Rows of the report's trim table (summary.json holds every speed).
-TRIM_ROWS = 6
-
-
 def air_rows(summary: dict, sweep) -> list[dict] | None:
-    """The trim table of a rotor in air at a few speeds spread over the sweep (None in vacuum)."""
+    """The trim table of a rotor in air at a few speeds spread over the sweep
+    (:func:`groundres.results.air.shown_rows`); None in vacuum."""
     if "trim" not in summary:
         return None
     trim = summary["trim"]
-    n = len(trim["rotor_speed"])
-    rows = sorted({round(i * (n - 1) / (TRIM_ROWS - 1)) for i in range(TRIM_ROWS)})
-    names = ("inflow_ratio", "thrust_coefficient", "blade_loading", "coning", "trim_lag", "thrust", "torque")
     out = []
-    for i in rows:
-        cells = []
-        for name in names:
-            value = trim[name][i]
-            blade = isinstance(value, list)  # (per blade where the blades differ: blade 1's)
-            key = f"trim.{name}.{i}" + (".0" if blade else "")
-            cells.append(number(value[0] if blade else value, key))
+    for i, row in shown_rows(trim):
+        cells = [
+            number(value, f"trim.{name}.{i}" + (".0" if isinstance(trim[name][i], list) else ""))
+            for name, value in row.items()
+        ]
         out.append({"speed": speed(trim["rotor_speed"][i], f"trim.rotor_speed.{i}", sweep), "cells": cells})
     return out
 

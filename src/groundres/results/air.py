@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from ..model.units import AERO_UNITS
+
 #: Said wherever the Deutsch criterion appears beside a rotor in air.
 DEUTSCH_IN_AIR = (
     "the Deutsch criterion has no aerodynamics: it weighs the blades' structural lag dampers and the "
@@ -50,15 +52,7 @@ def aero_block(case) -> dict:
         "pitch_flap": aero.pitch_flap,
         "pitch_lag": aero.pitch_lag,
         "inflow": aero.inflow,
-        "units": {
-            "air_density": "kg/m^3",
-            "lift_slope": "1/rad",
-            "chord": "m",
-            "tip_radius": "m",
-            "root_cutout": "m",
-            "collective": "deg",
-            "twist": "deg",
-        },
+        "units": {k: u for k, u in AERO_UNITS.items() if u != "1"},
     }
 
 
@@ -93,6 +87,24 @@ def trim_block(result) -> dict:
     for name, values in columns.items():
         out[name] = np.asarray(values, dtype=float).tolist()
     return out
+
+
+#: Rows of the trim table the terminal and the report show (summary.json and modes.nc hold
+#: every speed).
+SHOWN_ROWS = 6
+
+
+def shown_rows(trim: dict) -> list[tuple[int, dict]]:
+    """The rows of summary.json's ``trim`` block (``trim``) that the terminal and the report
+    show: a few speeds spread over the sweep, each as (index, name -> value), blade 1's coning
+    and trim lag where they are per blade."""
+    n = len(trim["rotor_speed"])
+    rows = sorted({round(i * (n - 1) / (SHOWN_ROWS - 1)) for i in range(SHOWN_ROWS)})
+
+    def first(value):
+        return value[0] if isinstance(value, list) else value
+
+    return [(i, {name: first(trim[name][i]) for name in TRIM_COLUMNS}) for i in rows]
 
 
 def trim_variables(result) -> dict:

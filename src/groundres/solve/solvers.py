@@ -42,6 +42,7 @@ import numpy as np
 
 from ..methods import Method
 from ..model.body import ROTATING_PAIRS
+from ..model.speedtable import SpeedTable
 from ..model.system import System
 from . import modal
 from .floquet import exponents, transition
@@ -164,21 +165,13 @@ class _TimeInvariant(Solver):
             c[sel], k[sel] = c0 + x * c1, k0 + x * (k1 + x * k2)
         return m, c, k
 
-    #: Most speeds whose form a solver in air keeps (:meth:`_kept_form`).
-    KEPT_SPEEDS = 20_000
-
     def _kept_form(self, speeds):
-        """The form at ``speeds``, each speed's kept (in air: scans and searches, and the trials
-        of a damping search, come back to the same speeds); the new ones computed together."""
-        kept = self.__dict__.setdefault("_forms", {})
-        speeds = np.asarray(speeds, dtype=float).reshape(-1)
-        new = np.unique([w for w in speeds if w not in kept])
-        if len(new):
-            if len(kept) + len(new) > self.KEPT_SPEEDS:
-                kept.clear()
-            for w, mats in zip(new, np.moveaxis(np.stack(self.form(new)), 1, 0)):
-                kept[w] = mats
-        return tuple(np.moveaxis(np.stack([kept[w] for w in speeds]), 0, 1))
+        """The form at ``speeds``, each speed's kept (:class:`groundres.model.speedtable.SpeedTable`:
+        in air, scans and searches, and the trials of a damping search, come back to the same
+        speeds); the new ones computed together."""
+        if "_forms" not in self.__dict__:
+            self._forms = SpeedTable(lambda speeds, _: self.form(speeds), limit=20_000)
+        return self._forms(speeds)
 
     def with_lag_damping(self, value, in_unit=False):
         """As :meth:`Solver.with_lag_damping`; in air the trial's form is a line between the

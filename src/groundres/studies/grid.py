@@ -30,6 +30,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import InputError, StudyError, shown
+from ..model.casefile import table_lines
 from ..model.params import Case
 from ..model.schema import SCHEMA, parse_case
 
@@ -298,10 +299,6 @@ def _blade_table(data: dict, index: int) -> dict:
     return entry
 
 
-#: A table header line of a case file (``[sweep]``, ``[[rotor.blade]]``).
-_HEADER = re.compile(r"^\s*\[")
-
-
 def with_points(case: Case, points: int | None) -> Case:
     """The case with ``points`` speeds in its sweep (its text edited, so that a study's store
     and folder record it), or the case itself where ``points`` is None.
@@ -317,10 +314,10 @@ def with_points(case: Case, points: int | None) -> Case:
     if isinstance(points, bool) or not isinstance(points, int):
         raise StudyError(f"--points {shown(points)}: must be a whole number")
     lines = raw_text(case).splitlines()
-    start = next((i for i, line in enumerate(lines) if line.strip() == "[sweep]"), None)
-    if start is None:
+    span = table_lines(lines, "sweep")
+    if span is None:
         raise StudyError("--points: the case has no [sweep] table to set it in; set points in the case file")
-    end = next((i for i in range(start + 1, len(lines)) if _HEADER.match(lines[i])), len(lines))
+    start, end = span
     entry = f"points = {points}"
     at = next((i for i in range(start + 1, end) if re.match(r"\s*points\s*=", lines[i])), None)
     if at is None:

@@ -45,11 +45,9 @@ from .derive import (
     HARMONICS,
     LOCAL_DOFS,
     RATES,
-    _rot_x,
-    _rot_y,
-    _rot_z,
     _time_derivative,
     azimuth,
+    blade_geometry,
     blade_kinetic,
     rotor_speed,
 )
@@ -96,16 +94,10 @@ _TRIG = {f(angle): sym for angle, c, s in _PAIRS for f, sym in ((sp.cos, c), (sp
 
 
 def _kinematics():
-    """Section position, blade axes and shaft axis as functions of the coordinates."""
-    x, y, z, theta, phi, chi, zeta, beta = COORDS
-    p = BLADE_SYMBOLS
-    body = _rot_z(chi) * _rot_x(phi) * _rot_y(-theta)
-    hub_frame = body * _rot_z(azimuth)
-    hub = sp.Matrix([p["hub_x"], p["hub_y"], p["hub_height"]])
-    hinge = sp.Matrix([x, y, z]) + body * hub + hub_frame * (p["hinge_offset"] * sp.Matrix([1, 0, 0]))
-    axes = hub_frame * _rot_z(-zeta) * _rot_y(-beta)  # columns: span, leading edge, normal
-    point = hinge + _radius * axes[:, 0]
-    return point, axes[:, 1], axes[:, 2], body[:, 2]
+    """Section position, leading-edge and normal axes, and the shaft axis, as functions of the
+    coordinates (the structure's geometry, :func:`groundres.symbolic.derive.blade_geometry`)."""
+    hinge, axes, body = blade_geometry()
+    return hinge + _radius * axes[:, 0], axes[:, 1], axes[:, 2], body[:, 2]
 
 
 def _trim_values():

@@ -349,9 +349,8 @@ def sympy_source(derived: dict) -> str:
 
     printer = SourcePrinter({"order": None})
     tables = {
-        f"{module.__name__.rpartition('.')[2]}.{t}": getattr(module, t)
-        for module, names in ((derive, ("BLADE_SYMBOLS", "RIGID_SYMBOLS", "LEG_SYMBOLS", "ROD_SYMBOLS")),)
-        for t in names
+        f"derive.{t}": getattr(derive, t)
+        for t in ("BLADE_SYMBOLS", "RIGID_SYMBOLS", "LEG_SYMBOLS", "ROD_SYMBOLS")
     }
     functions = []
     for name, (symbols, _, _) in _functions().items():

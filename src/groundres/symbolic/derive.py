@@ -154,22 +154,33 @@ def _harmonics(expr):
     )
 
 
-def blade_kinetic():
-    """The exact kinetic energy of one rigid blade on the moving body (module docstring)."""
+def blade_geometry():
+    """The blade's hinge position, its axes and the body's rotation, as functions of the coordinates.
+
+    Returns ``(hinge, axes, body)``: the hinge point (from the pivot, in ground axes); the blade's
+    axes (columns: along the span, towards the leading edge, its normal), turned by the body,
+    the azimuth, the lag (against the rotation) and the flap (up); the body's rotation matrix.
+    """
     x, y, z, theta, phi, chi, zeta, beta = COORDS
     p = BLADE_SYMBOLS
-    ex = sp.Matrix([1, 0, 0])
     # Yaw about +z (nose left, with the rotor), then roll about +x (right side
     # down), then pitch nose up (about -y).
     body = _rot_z(chi) * _rot_x(phi) * _rot_y(-theta)
     hub_frame = body * _rot_z(azimuth)
     hub = sp.Matrix([p["hub_x"], p["hub_y"], p["hub_height"]])
-    hinge = sp.Matrix([x, y, z]) + body * hub + hub_frame * (p["hinge_offset"] * ex)
+    hinge = sp.Matrix([x, y, z]) + body * hub + hub_frame * (p["hinge_offset"] * sp.Matrix([1, 0, 0]))
     # Lag against the rotation, flap up; the order of the two hinges changes
     # only terms of third order in the coordinates.
-    span = hub_frame * sp.Matrix([sp.cos(beta) * sp.cos(zeta), -sp.cos(beta) * sp.sin(zeta), sp.sin(beta)])
+    axes = hub_frame * _rot_z(-zeta) * _rot_y(-beta)
+    return hinge, axes, body
+
+
+def blade_kinetic():
+    """The exact kinetic energy of one rigid blade on the moving body (module docstring)."""
+    p = BLADE_SYMBOLS
+    hinge, axes, _ = blade_geometry()
     a_dot = hinge.applyfunc(_time_derivative)
-    b_dot = span.applyfunc(_time_derivative)
+    b_dot = axes[:, 0].applyfunc(_time_derivative)
     return (
         p["blade_mass"] * a_dot.dot(a_dot) / 2
         + p["blade_static_moment"] * a_dot.dot(b_dot)
