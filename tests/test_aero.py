@@ -378,13 +378,17 @@ def test_the_span_moments_keep_one_set_of_names():
     assert tuple(SPAN_SYMBOLS) == SPAN_ARGUMENTS
 
 
-def test_floquet_of_the_blade_equations_equals_multiblade_eigen_in_air():
+@pytest.mark.parametrize("inflow", ["uniform", "dynamic"])
+def test_floquet_of_the_blade_equations_equals_multiblade_eigen_in_air(inflow):
     """Identical blades in air (collective, pitch-lag coupling: coning and trim lag enter):
     the Floquet exponents of the untransformed blade equations, each speed on its own trim,
-    equal the multiblade eigenvalues (real parts; frequencies modulo the rotor speed)."""
+    equal the multiblade eigenvalues (real parts; frequencies modulo the rotor speed), with
+    uniform and with dynamic inflow (three more roots, the same by both routes)."""
     from groundres.solve.solvers import Floquet, Multiblade
 
-    case = case_in_air(air_density=1.225, drag_coefficient=0.01, collective=8.0, pitch_lag=-0.3)
+    case = case_in_air(
+        air_density=1.225, drag_coefficient=0.01, collective=8.0, pitch_lag=-0.3, inflow=inflow
+    )
     system = System.in_mass_unit(case.rotor, case.body)
     speeds = case.sweep.speeds
     eigen, floquet = Multiblade(system).roots(speeds), Floquet(system).roots(speeds)
@@ -398,11 +402,15 @@ def test_floquet_of_the_blade_equations_equals_multiblade_eigen_in_air():
             assert (near & (np.abs(shifts - np.round(shifts)) < 1e-8)).any()
 
 
-def test_rotating_axes_equal_multiblade_in_air_on_an_isotropic_hub():
+@pytest.mark.parametrize("inflow", ["uniform", "dynamic"])
+def test_rotating_axes_equal_multiblade_in_air_on_an_isotropic_hub(inflow):
+    """With dynamic inflow its first-harmonic pair turns with the hub, as velocities."""
     from groundres.solve.solvers import Multiblade, Rotating
 
     blade = Blade(60.0, 132.0, 406.0, 0.5, lag_stiffness=21119.0, flap_stiffness=5074.0)
-    aero = Aero(1.225, 5.7, 0.35, 5.0, root_cutout=0.6, collective=0.1, twist=-0.12, pitch_flap=0.3)
+    aero = Aero(
+        1.225, 5.7, 0.35, 5.0, root_cutout=0.6, collective=0.1, twist=-0.12, pitch_flap=0.3, inflow=inflow
+    )
     system = System(rotor_in_air(blade, aero, n=3), HUB)
     speeds = np.linspace(5.0, 40.0, 8)
     one, other = Multiblade(system).roots(speeds), Rotating(system).roots(speeds)

@@ -58,9 +58,16 @@ def time_invariant(case) -> Method | None:
     """The eigen-analysis whose transform gives ``case`` constant coefficients, or None."""
     if case.rotor.identical and case.rotor.n_blades >= 3:
         return Method.MULTIBLADE
-    if case.body.isotropic:
+    if case.body.isotropic and not _tilts_under_torque(case):
         return Method.ROTATING
     return None
+
+
+def _tilts_under_torque(case) -> bool:
+    """A rotor in air on a body that pitches or rolls: the rotor's torque along the tilted
+    shaft couples pitch and roll through the order of the gimbal's axes (roll, then pitch),
+    which no turn about the shaft leaves alike: the body is isotropic only in vacuum."""
+    return case.rotor.aero is not None and bool({"pitch", "roll"} & set(case.body.dofs))
 
 
 def choose_method(case, option: str | None = None) -> Method:
@@ -85,6 +92,7 @@ def choose_method(case, option: str | None = None) -> Method:
             key,
             option,
             "this case has periodic coefficients in every frame (dissimilar blades or N = 2 on an "
-            "anisotropic body), so it has no eigenvalues; use 'floquet' or 'auto'",
+            "anisotropic body, or on a body that pitches or rolls under a rotor in air), so it has no "
+            "eigenvalues; use 'floquet' or 'auto'",
         )
     return form or Method.FLOQUET

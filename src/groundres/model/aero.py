@@ -118,6 +118,13 @@ class Aero:
                 raise ParameterError(key, getattr(self, key), f"must be within +-{MAX_COUPLING:g}")
         if self.inflow not in INFLOWS:
             raise ParameterError("inflow", self.inflow, f"must be one of {list(INFLOWS)}")
+        if self.inflow == "dynamic" and self.air_density == 0:
+            raise ParameterError(
+                "inflow",
+                self.inflow,
+                "needs air: the inflow's apparent mass is the air's; with no air (a zero air density or "
+                'Lock number) use "uniform"',
+            )
 
     def pitch_at(self, radius: float) -> float:
         """The trim pitch [rad] at ``radius`` from the shaft, before the couplings."""

@@ -321,11 +321,6 @@ def _aero(data: dict, rotor: Rotor) -> Rotor:
         near = difflib.get_close_matches(inflow, INFLOWS, n=1, cutoff=0.5)
         hint = f" (did you mean '{near[0]}'?)" if near else ""
         raise CaseError(f"[aero] inflow = {shown(inflow)}: must be one of {list(INFLOWS)}{hint}")
-    if inflow == "dynamic":
-        raise CaseError(
-            '[aero] inflow = "dynamic": Pitt-Peters dynamic inflow is not available in this version yet; '
-            'use "uniform" (momentum inflow frozen at its trim value)'
-        )
     values = {k: float(v) for k, v in data.items() if k not in ("inflow", "lock_number")}
     for key in DEGREE_KEYS:
         if key in values:

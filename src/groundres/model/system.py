@@ -16,13 +16,14 @@ import numpy as np
 
 from ..symbolic.codegen import BLADE_ARGUMENTS, air_values, blade_function
 from . import dampers, mbc
+from . import inflow as inflow_module
 from . import trim as trim_module
 from .body import BODY_DOFS, Body
 from .mbc import Coordinate
 from .params import Rotor
 from .units import BLADE_UNITS, ROD_UNITS, SI, MassUnit
 
-_LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap"))}
+_LOCAL = {name: i for i, name in enumerate(BODY_DOFS + ("lag", "flap") + inflow_module.STATES)}
 #: Systems frozen at one speed's trim (:meth:`System.frozen`) a system keeps.
 FROZEN_KEPT = 8
 
@@ -64,10 +65,18 @@ class System:
     def __init__(self, rotor: Rotor, body: Body, mass_unit: MassUnit = SI):
         self.rotor, self.body, self.mass_unit = rotor, body, mass_unit
         self.n_blades = rotor.n_blades
-        self.n_body = len(body.dofs)
+        #: The inflow states of dynamic inflow (none otherwise), after the body's coordinates.
+        self.inflow_states = inflow_module.states(rotor.aero)
+        #: The nonrotating coordinates, shared by every blade: the body's, then the inflow states.
+        self.n_body = len(body.dofs) + len(self.inflow_states)
+        #: Coordinates that enter the equations only through their rates (the inflow states,
+        #: velocities): their positions are no state, and the solvers drop them exactly.
+        self.integrals = np.arange(len(body.dofs), self.n_body)
         self.blade_kinds = ("lag", "flap") if rotor.flap else ("lag",)
         self.size = self.n_body + self.n_blades * len(self.blade_kinds)
-        self._local = [_LOCAL[d] for d in body.dofs] + [_LOCAL[k] for k in self.blade_kinds]
+        self._local = [_LOCAL[d] for d in body.dofs + self.inflow_states] + [
+            _LOCAL[k] for k in self.blade_kinds
+        ]
         self._global = [
             list(range(self.n_body))
             + [self.n_body + j * self.n_blades + k for j in range(len(self.blade_kinds))]
@@ -102,14 +111,19 @@ class System:
 
     @cached_property
     def coordinates(self) -> list[Coordinate]:
-        """Blade coordinates: body (nonrotating), then each blade's lag, flap."""
-        body = [Coordinate("body", d) for d in self.body.dofs]
+        """Blade coordinates: body and inflow (nonrotating), then each blade's lag, flap."""
+        body = self._nonrotating_coordinates()
         blades = [
             Coordinate(kind, str(k + 1), frame="rotating")
             for kind in self.blade_kinds
             for k in range(self.n_blades)
         ]
         return body + blades
+
+    def _nonrotating_coordinates(self) -> list[Coordinate]:
+        return [Coordinate("body", d) for d in self.body.dofs] + [
+            Coordinate("inflow", d) for d in self.inflow_states
+        ]
 
     def blade_harmonics(self, speeds) -> np.ndarray:
         """Harmonic matrices of each blade, shape (n_s, N, 3, 5, n_loc, n_loc).
@@ -133,14 +147,10 @@ class System:
                 coefficients = trim_module.coefficients(
                     "blade_in_air", blade, trim_module.hub_of(self.body), aero
                 )
-                arrays = air_values(
-                    "blade_in_air",
-                    coefficients,
-                    speeds,
-                    trim.inflow_ratio,
-                    trim.coning[:, k],
-                    trim.trim_lag[:, k],
-                )
+                state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
+                arrays = air_values("blade_in_air", coefficients, *state)
+                if self.inflow_states:
+                    arrays = inflow_module.with_inflow(arrays, blade, self.body, aero, state, self.n_blades)
             return np.moveaxis(arrays, -1, 0)[sel]
 
         if self.rotor.blades_alike:
@@ -165,8 +175,14 @@ class System:
         return self._trims
 
     def body_matrices(self) -> np.ndarray:
-        """Body-only mass, damping, stiffness, shape (3, n_body, n_body)."""
-        return self.body.matrices()
+        """Body-only mass, damping, stiffness on the nonrotating coordinates, shape (3, n_body,
+        n_body) (nothing on the inflow states: the inflow's own terms come with the blades)."""
+        own = self.body.matrices()
+        if not self.inflow_states:
+            return own
+        out = np.zeros((3, self.n_body, self.n_body))
+        out[:, : own.shape[1], : own.shape[2]] = own
+        return out
 
     @cached_property
     def rod_matrices(self) -> np.ndarray:
@@ -335,7 +351,7 @@ class System:
 
     def multiblade_coordinates(self) -> list[Coordinate]:
         """Coordinates of the multiblade form."""
-        body = [Coordinate("body", d) for d in self.body.dofs]
+        body = self._nonrotating_coordinates()
         names = mbc.multiblade_names(self.n_blades)
         return body + [Coordinate(kind, name, n) for kind in self.blade_kinds for name, n in names]
 
@@ -362,8 +378,9 @@ class System:
     def rotating_axes(self, speeds, phase=0.0):
         """Equations with the body in rotating axes (time-invariant for an isotropic body).
 
-        The pairs (x, y) and (pitch, roll) turn with the rotor; a body with only
-        one of a pair is anisotropic and has no such form.
+        The pairs (x, y) and (pitch, roll), and the inflow states forward and left,
+        turn with the rotor; a body with only one of a pair is anisotropic and has
+        no such form.
         """
         speeds = np.asarray(speeds, dtype=float)
         for a, b in (("x", "y"), ("pitch", "roll")):
@@ -384,7 +401,15 @@ class System:
                 t[(slice(None),) + ij] = rot
                 t_dot[(slice(None),) + ij] = w * d_rot
                 t_ddot[(slice(None),) + ij] = w**2 * d2_rot
-        return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
+        if self.inflow_states:
+            # the inflow pair turns too, as velocities: v = T v_r gives v' = T v_r' + T' v_r, so
+            # its damping takes M T' (not 2 M T') and its positions (no state) take nothing
+            pair = list(self.integrals[1:])
+            ij = (slice(None),) + np.ix_(pair, pair)
+            t[ij], t_dot[ij] = rot, w * d_rot / 2
+        mass, damping, stiffness = mbc.transform_equations(m, c, k, t, t_dot, t_ddot)
+        stiffness[..., self.integrals] = 0.0
+        return np.stack((mass, damping, stiffness))
 
     # -- nonrotating view of periodic motion ------------------------------------
 

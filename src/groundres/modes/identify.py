@@ -312,8 +312,16 @@ def identify(
         mine = np.array(
             [i for i, (g, pos) in enumerate(owner) if set(own_coordinates(g, pos)) <= set(members.tolist())]
         )
-        if 2 * len(mine) != len(cols):
+        singles = [i for i in mine if owner[i][0].roots == 1]
+        if sum(owner[i][0].roots for i in mine) != len(cols):
             raise RuntimeError(f"block of {len(members)} coordinates has labels {[labels[i] for i in mine]}")
+        for i in singles:  # (a first-order state's one real root: the branch it fills most)
+            pick = cols[np.argmax(frac[:, cols, i].sum(0))]
+            rep[:, i] = other[:, i] = pick
+            cols = cols[cols != pick]
+        mine = np.array([i for i in mine if i not in singles], int)
+        if not len(mine):
+            continue
         frac_b = frac[:, cols][:, :, mine]
         shapes = np.moveaxis(harmonics[:, :, :, cols] * np.sqrt(weights)[:, :, None, None], -1, 1)
         shapes = shapes.reshape(n_s, len(cols), -1)  # weighted harmonics of each root

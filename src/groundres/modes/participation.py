@@ -49,15 +49,20 @@ class Group:
         "planar" (a body direction without its partner), "pair" (body x-y or
         pitch-roll, anisotropic: one label per direction), "whirl" (an
         isotropic pair: forward and backward whirl), "cyclic" (a cyclic pair
-        of order n: regressive and progressive).
+        of order n: regressive and progressive), "inflow" (the inflow states of
+        dynamic inflow: the uniform one, or the first-harmonic pair as one label).
     order : int
         n: the rotating frame sees the group's forward part at f - n Omega.
+    roots : int
+        Roots per label: two (a mode: a conjugate pair, or two real roots), or one (the
+        uniform inflow, a first-order state: one real root).
     """
 
     labels: tuple
     coords: tuple
     kind: str
     order: int
+    roots: int = 2
 
 
 def label_groups(coords: list[Coordinate], isotropic_pairs=()) -> list[Group]:
@@ -78,6 +83,12 @@ def label_groups(coords: list[Coordinate], isotropic_pairs=()) -> list[Group]:
             else:
                 groups.append(Group((f"body {a}", f"body {b}"), (i, j), "pair", 1))
             used |= {i, j}
+        elif c.kind == "inflow" and c.name == "uniform":
+            groups.append(Group(("uniform inflow",), (i,), "inflow", 0, roots=1))
+        elif c.kind == "inflow":
+            pair = tuple(index[("inflow", d)] for d in ("forward", "left"))
+            groups.append(Group(("cyclic inflow",), pair, "inflow", 1))
+            used |= set(pair)
         elif c.kind == "body" and c.name in ("z", "yaw"):
             groups.append(Group((f"body {c.name}",), (i,), "axial", 0))
         elif c.kind == "body":
@@ -135,7 +146,7 @@ def group_parts(group: Group, amp, weight, freq, speed):
     """
     sq = weight * np.abs(amp) ** 2
     kind, n = group.kind, group.order
-    if kind == "axial":  # two parts like every other kind, the second empty
+    if kind == "axial" or (kind == "inflow" and n == 0):  # two parts, the second empty
         return [(sq, freq), (0 * sq, freq)]
     if kind == "planar":
         return [(sq / 2, freq - speed), (sq / 2, -freq - speed)]
@@ -146,6 +157,9 @@ def group_parts(group: Group, amp, weight, freq, speed):
     rot_f, rot_b = freq - n * speed, -freq - n * speed
     if kind == "pair":
         return [(sq * share, rot_f), (sq * (1 - share), rot_b)]
+    if kind == "inflow":  # (the first-harmonic pair: one label, forward and backward parts)
+        whole = sq.sum(-1, keepdims=True)
+        return [(whole * share, rot_f), (whole * (1 - share), rot_b)]
     energy = sq.sum(-1)
     e_f, e_b = energy * share[..., 0], energy * (1 - share[..., 0])
     if kind == "whirl":  # the forward part at f > 0 whirls forward

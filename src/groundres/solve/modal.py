@@ -24,24 +24,55 @@ from scipy.sparse.csgraph import connected_components
 from .parallel import CORES, map_threads
 
 
-def state_matrix(mass, damping, stiffness):
-    """First-order form x' = A x with x = [q, q'], stacked over leading axes."""
+def kept_states(n: int, integrals=()) -> np.ndarray:
+    """Which entries of x = [q, q'] are states: all but the positions of ``integrals``.
+
+    An integral is a coordinate that enters the equations only through its rate
+    (its stiffness column is zero: the inflow states of dynamic inflow, which are
+    velocities): its position is no state, and dropping it removes exactly one
+    root at zero that is no motion of the system.
+    """
+    return np.setdiff1d(np.arange(2 * n), np.asarray(integrals, int))
+
+
+def state_matrix(mass, damping, stiffness, integrals=()):
+    """First-order form x' = A x with x = [q, q'] (without the positions of ``integrals``,
+    :func:`kept_states`), stacked over leading axes."""
     n = mass.shape[-1]
     rhs = np.linalg.solve(mass, np.concatenate([stiffness, damping], axis=-1))
     a = np.zeros(mass.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
     a[..., n:, :] = -rhs
+    if len(integrals):
+        keep = kept_states(n, integrals)
+        a = a[..., keep[:, None], keep]
     return a
 
 
-def unit_mass_state_matrix(mass, damping, stiffness):
+def displacements(vectors, values, n: int, integrals=()):
+    """The displacement part (..., n, m) of eigenvectors of :func:`state_matrix` (..., 2n - k, m)
+    with eigenvalues ``values`` (..., m): an integral's displacement is its rate over the
+    eigenvalue (at a root at zero, a constant rate: its rate itself, for its shape)."""
+    if not len(integrals):
+        return vectors[..., :n, :]
+    integrals = np.asarray(integrals, int)
+    k = len(integrals)
+    out = np.empty(vectors.shape[:-2] + (n, vectors.shape[-1]), complex)
+    out[..., np.setdiff1d(np.arange(n), integrals), :] = vectors[..., : n - k, :]
+    values = np.asarray(values)[..., None, :]
+    safe = np.where(values == 0, 1.0, values)
+    out[..., integrals, :] = vectors[..., n - k + integrals, :] / safe
+    return out
+
+
+def unit_mass_state_matrix(mass, damping, stiffness, integrals=()):
     """:func:`state_matrix` in coordinates scaled so that the mass matrix has a
     unit diagonal, and the scales d (the state is balanced whatever the units
     and sizes of body and blades; a similarity: the roots are the same, a
-    displacement eigenvector is ``d[..., :, None] * v[..., :n, :]``)."""
+    displacement eigenvector is ``d[..., :, None] * displacements(v, w, n)``)."""
     d = 1.0 / np.sqrt(np.abs(np.diagonal(mass, axis1=-2, axis2=-1)))
     scale = d[..., :, None] * d[..., None, :]
-    return state_matrix(mass * scale, damping * scale, stiffness * scale), d
+    return state_matrix(mass * scale, damping * scale, stiffness * scale, integrals), d
 
 
 def _normalised(mass, damping, stiffness):
@@ -99,7 +130,7 @@ def _quadratic_roots(a, b, c):
     return (-b + root) / (2 * a), (-b - root) / (2 * a)
 
 
-def block_eig(m, c, k, vectors=True):
+def block_eig(m, c, k, vectors=True, integrals=()):
     """Eigenvalues (and displacement eigenvectors) of one block at every speed.
 
     One coordinate: the roots of m s^2 + c s + k. Two coordinates forming a
@@ -108,10 +139,15 @@ def block_eig(m, c, k, vectors=True):
     form; its roots are the forward (eigenvector [1, -i]) and the conjugate
     equation's the backward whirls ([1, i]). Anything else: batched LAPACK.
 
-    Returns eigenvalues (..., 2n) and, if asked, vectors (..., n, 2n).
+    ``integrals`` (indices in the block, :func:`kept_states`) are solved by
+    LAPACK without their positions: 2n - k roots.
+
+    Returns eigenvalues (..., 2n - k) and, if asked, vectors (..., n, 2n - k).
     """
     n = m.shape[-1]
-    if n == 1:
+    if len(integrals):
+        pass
+    elif n == 1:
         s1, s2 = _quadratic_roots(m[..., 0, 0] + 0j, c[..., 0, 0] + 0j, k[..., 0, 0] + 0j)
         w = np.stack([s1, s2], -1)
         return (w, np.ones(w.shape[:-1] + (1, 2), complex)) if vectors else w
@@ -123,18 +159,29 @@ def block_eig(m, c, k, vectors=True):
             return w
         v = np.array([[1, 1, 1, 1], [-1j, -1j, 1j, 1j]]) / np.sqrt(2)
         return w, np.broadcast_to(v, w.shape[:-1] + (2, 4)).copy()
-    a, d = unit_mass_state_matrix(m, c, k)
+    a, d = unit_mass_state_matrix(m, c, k, integrals)
     if not vectors:
         return batched(np.linalg.eigvals, a)
     w, v = batched(np.linalg.eig, a)
-    q = v[..., :n, :] * d[..., :, None]
+    q = displacements(v, w, n, integrals) * d[..., :, None]
     return w, q / np.linalg.norm(q, axis=-2, keepdims=True)
 
 
-def block_eigenvalues(mass, damping, stiffness, blocks, split=False):
-    """All eigenvalues, block by block (no vectors), shape (..., 2n); a list per block with ``split``."""
+def within(block, integrals) -> np.ndarray:
+    """The positions in ``block`` (coordinate indices) of the ``integrals`` it holds."""
+    return np.flatnonzero(np.isin(block, integrals))
+
+
+def block_eigenvalues(mass, damping, stiffness, blocks, split=False, integrals=()):
+    """All eigenvalues, block by block (no vectors), shape (..., 2n - k); a list per block with
+    ``split``."""
     out = [
-        block_eig(*(x[..., b[:, None], b] for x in (mass, damping, stiffness)), vectors=False) for b in blocks
+        block_eig(
+            *(x[..., b[:, None], b] for x in (mass, damping, stiffness)),
+            vectors=False,
+            integrals=within(b, integrals),
+        )
+        for b in blocks
     ]
     return out if split else np.concatenate(out, axis=-1)
 
@@ -188,7 +235,7 @@ class Eigensolution:
     key: np.ndarray | None = None
 
 
-def solve(mass, damping, stiffness, blocks) -> Eigensolution:
+def solve(mass, damping, stiffness, blocks, integrals=()) -> Eigensolution:
     """Eigen-solution of M q'' + C q' + K q = 0 at every speed, block by block.
 
     A long sweep is split into as many parts as there are cores, each solved
@@ -196,9 +243,9 @@ def solve(mass, damping, stiffness, blocks) -> Eigensolution:
     """
     n_s = mass.shape[0]
     if n_s < 256 or CORES < 2:
-        return _solve(mass, damping, stiffness, blocks)
+        return _solve(mass, damping, stiffness, blocks, integrals)
     parts = map_threads(
-        lambda idx: _solve(mass[idx], damping[idx], stiffness[idx], blocks),
+        lambda idx: _solve(mass[idx], damping[idx], stiffness[idx], blocks, integrals),
         np.array_split(np.arange(n_s), CORES),
     )
     first = parts[0]
@@ -210,17 +257,18 @@ def solve(mass, damping, stiffness, blocks) -> Eigensolution:
     )
 
 
-def _solve(mass, damping, stiffness, blocks) -> Eigensolution:
+def _solve(mass, damping, stiffness, blocks, integrals=()) -> Eigensolution:
     """:func:`solve` in the calling thread."""
     n_s, n = mass.shape[0], mass.shape[-1]
-    values = np.zeros((n_s, 2 * n), complex)
-    vectors = np.zeros((n_s, n, 2 * n), complex)
-    block_of = np.zeros(2 * n, int)
+    count = 2 * n - len(integrals)
+    values = np.zeros((n_s, count), complex)
+    vectors = np.zeros((n_s, n, count), complex)
+    block_of = np.zeros(count, int)
     col = 0
     for i, b in enumerate(blocks):
         sub = [x[:, b[:, None], b] for x in (mass, damping, stiffness)]
-        w, q = block_eig(*sub)
-        m = 2 * len(b)
+        w, q = block_eig(*sub, integrals=within(b, integrals))
+        m = w.shape[-1]
         values[:, col : col + m] = w
         vectors[:, b[:, None], np.arange(col, col + m)] = q
         block_of[col : col + m] = i

@@ -188,17 +188,17 @@ class _TimeInvariant(Solver):
 
     def _scan_roots(self, speeds):
         mats = self._fitted(speeds)
-        return modal.block_eigenvalues(*mats, self._blocks(mats), split=True)
+        return modal.block_eigenvalues(*mats, self._blocks(mats), split=True, integrals=self.system.integrals)
 
     def roots(self, speeds):
         # (the fitted matrices: a search's single speeds cost an array product, not an assembly)
         mats = self._fitted(np.atleast_1d(np.asarray(speeds, dtype=float)))
-        return modal.block_eigenvalues(*mats, self._blocks(mats))
+        return modal.block_eigenvalues(*mats, self._blocks(mats), integrals=self.system.integrals)
 
     def sweep(self, speeds, progress=None):
         """Eigenvalues and eigenvectors of the form at ``speeds``, tracked along branches."""
         mats = self.form(speeds)
-        solution = modal.track(modal.solve(*mats, self._blocks(mats)), speeds)
+        solution = modal.track(modal.solve(*mats, self._blocks(mats), self.system.integrals), speeds)
         if progress is not None:
             progress(len(speeds), len(speeds))
         return solution
@@ -354,9 +354,10 @@ class Floquet(Solver):
         # with speed (the multipliers' phases wrap many times over a slow period)
         disp = fs.vector[:, :n, :]
         disp = disp / np.maximum(np.linalg.norm(disp, axis=1, keepdims=True), 1e-300)
-        order = modal.track_order(fs.exponent, disp, np.zeros(2 * n, int), speeds, periodic=True)
+        one = np.zeros(fs.exponent.shape[-1], int)  # (one block)
+        order = modal.track_order(fs.exponent, disp, one, speeds, periodic=True)
         key, lam, disp, harmonics = _reorder(order, fs.key, fs.exponent, disp, fs.harmonics)
-        return modal.Eigensolution(lam, disp, np.zeros(2 * n, int), [np.arange(n)], harmonics, fs.orders, key)
+        return modal.Eigensolution(lam, disp, one, [np.arange(n)], harmonics, fs.orders, key)
 
 
 def _reorder(order, *arrays):

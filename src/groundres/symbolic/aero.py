@@ -253,11 +253,14 @@ class _Trim:
 
     def force_change(self, j: int, rate: bool):
         """dF per unit change of coordinate j (or of its rate)."""
-        zero = [_RING.zero] * 3
         if rate:
-            dw, dt, dn, dtheta = self.dw_r[j], zero, zero, _RING.zero
-        else:
-            dw, dt, dn, dtheta = self.dw_q[j], self.dt_q[j], self.dn_q[j], self.dtheta_q[j]
+            return self.force_change_in(self.dw_r[j])
+        return self.force_change_in(self.dw_q[j], self.dt_q[j], self.dn_q[j], self.dtheta_q[j])
+
+    def force_change_in(self, dw, dt=None, dn=None, dtheta=None):
+        """dF per unit change of the relative air dw, the axes dt and dn and the pitch dtheta."""
+        zero = [_RING.zero] * 3
+        dt, dn, dtheta = dt or zero, dn or zero, dtheta or _RING.zero
         du_t = _dot(dw, self.lead) + _dot(self.w0, dt)
         du_p = _dot(dw, self.normal) + _dot(self.w0, dn)
         dfn = self.dfn[0] * du_t + self.dfn[1] * du_p + self.dfn[2] * dtheta
@@ -355,8 +358,9 @@ def _state_gens():
     return [rotor_speed, a["inflow_ratio"], a["coning"], a["trim_lag"], *trig]
 
 
-def _terms(polys: dict, shape: tuple) -> Terms:
-    """Split polynomials (index -> polynomial) into Terms over the trim state."""
+def _terms(polys: dict, shape: tuple, per_tip=None) -> Terms:
+    """Split polynomials (index -> polynomial) into Terms over the trim state (an entry of
+    ``per_tip``, index -> k, divided by the tip radius to the power k)."""
     gens = [_INDEX[g] for g in _state_gens()]
     grouped = {}
     for index, poly in polys.items():
@@ -369,7 +373,13 @@ def _terms(polys: dict, shape: tuple) -> Terms:
             grouped[(key, index)] = grouped.get((key, index), _RING.zero) + part
     order = sorted({key for key, _ in grouped})
     number = {key: k for k, key in enumerate(order)}
-    entries = {(number[key],) + index: _as_expr(v) for (key, index), v in grouped.items() if v}
+    tip = AERO_SYMBOLS["tip_radius"]
+    per_tip = per_tip or {}
+    entries = {
+        (number[key],) + index: _as_expr(v) / tip ** per_tip.get(index, 0)
+        for (key, index), v in grouped.items()
+        if v
+    }
     return Terms(dict(sorted(entries.items())), tuple(order), shape)
 
 

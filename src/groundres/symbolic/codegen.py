@@ -11,8 +11,9 @@ commits its result as three generated modules of the package:
     ``rod_to_hub`` and ``rod_to_blade`` (:func:`generated`) for a body on
     gear legs and damper rods.
 ``generated_air.py``
-    ``blade_in_air`` and ``trim_in_air`` (:mod:`groundres.symbolic.aero`): one
-    blade's equations in air about its hover trim, and the trim loads, NumPy
+    ``blade_in_air``, ``trim_in_air`` and ``inflow_in_air``
+    (:mod:`groundres.symbolic.aero`): one blade's equations in air about its
+    hover trim, the trim loads, and what dynamic inflow adds, NumPy
     only (long, so imported only for a case in air; the tests check them
     against the derivation at random parameters);
 ``generated_sympy.py``
@@ -63,7 +64,7 @@ NUMPY_MODULE = "generated_numpy.py"
 SYMPY_MODULE = "generated_sympy.py"
 #: The blade in air and its trim, NumPy only (long: imported only for a case in air).
 AIR_MODULE = "generated_air.py"
-AIR_FUNCTIONS = ("blade_in_air", "trim_in_air")
+AIR_FUNCTIONS = ("blade_in_air", "trim_in_air", "inflow_in_air")
 #: The trim state the functions in air take at every speed (in the order of the monomials' exponents);
 #: their other arguments are the rotor's, the body's and the air's, fixed over a sweep.
 AIR_STATE = (
@@ -86,7 +87,7 @@ _PRAGMAS = ("# fmt: off", "# ruff: noqa")
 def _functions():
     """name -> (symbol dict of its arguments (name -> symbol, in order), shape of its array,
     derivation): every generated function (the blade's first)."""
-    from . import aero, derive
+    from . import aero, derive, inflow
 
     return {
         "blade_harmonics": (
@@ -100,6 +101,7 @@ def _functions():
         "rod_to_blade": (_rod_symbols(to_hub=False), (4,), lambda: derive.derive_rod(False)),
         "blade_in_air": (_fixed_symbols(), None, aero.derive_blade_in_air),
         "trim_in_air": (_fixed_symbols(), None, aero.derive_trim),
+        "inflow_in_air": (_fixed_symbols(), None, inflow.derive_inflow_coupling),
     }
 
 
@@ -147,7 +149,7 @@ def generated(name: str):
 
 
 def air_coefficients(name: str, **fixed):
-    """The coefficients of a function in air (``blade_in_air`` or ``trim_in_air``) for one
+    """The coefficients of a function in air (one of AIR_FUNCTIONS) for one
     blade: an array (K, ...) over its K monomials of the trim state, from the blade's, the
     body's and the air's arguments (numbers, SI; :func:`_fixed_symbols`)."""
     return generated(name)(**fixed)

@@ -244,13 +244,14 @@ def node_coefficients(speeds, damping=None) -> np.ndarray:
 
 
 def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
-    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n).
+    """Roots [1/rad] of the azimuth-domain system held at a few azimuths, (probes, n_s, 2n - k)
+    (k: the system's integrals, whose positions are no state).
 
     With ``damping`` (per speed along the system's damping directions,
     :func:`per_speed`) the system is a split one
     (:meth:`groundres.model.system.System.split_damping`).
     """
-    from ..modal import batched  # (threads for a long batch)
+    from ..modal import batched, kept_states  # (threads for a long batch)
 
     speeds = np.asarray(speeds, dtype=float)
     damping = per_speed(damping, len(speeds))
@@ -261,7 +262,8 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
             )
             for i, w in enumerate(speeds)
         ]
-        return np.concatenate(parts, axis=1) if parts else np.zeros((probes, 0, 2 * system.size))
+        count = 2 * system.size - len(system.integrals)
+        return np.concatenate(parts, axis=1) if parts else np.zeros((probes, 0, count))
     directions = directions_of(damping)
     key = f"frozen-{probes}-{directions}"  # (the same few azimuths every time: their blocks are kept)
     with _CACHE_LOCK:
@@ -274,6 +276,9 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
     a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
     a[..., n:, :] = f
+    if len(system.integrals):  # (their positions are no state: no root at zero for them)
+        keep = kept_states(n, system.integrals)
+        a = a[..., keep[:, None], keep]
     return batched(np.linalg.eigvals, a.reshape((-1,) + a.shape[-2:])).reshape(a.shape[:-1])
 
 

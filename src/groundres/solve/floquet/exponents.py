@@ -38,7 +38,7 @@ import numpy as np
 
 from ...errors import SpeedRangeError
 from ...model.system import System
-from ..modal import state_matrix
+from ..modal import displacements, kept_states, state_matrix
 from .air import in_air
 from .coefficients import frozen_rates, per_speed, rates_per_radian
 from .lifting import lifted_eig
@@ -133,6 +133,35 @@ def _group(parts, k):
     return ordered_product(np.swapaxes(parts.reshape((k, per) + parts.shape[1:]), 0, 1))
 
 
+def _full_vectors(parts, starts, z, keep):
+    """Periodic eigenvectors at the starts of K parts with the positions of the integrals put
+    back, (K, ..., m, mr), from those of the kept states (K, ..., mr, mr)
+    (:func:`groundres.solve.modal.kept_states`).
+
+    parts : (K, ..., m, m) transition matrices over the parts (the last one's with the
+    symmetry map applied); z : (..., mr) the lifted eigenvalues (K = 1: the multipliers).
+    An integral's position moves by its rate and nothing moves by it: over part k it
+    gains b_k = parts[k][integral, kept] starts[k], so that z x_(k+1) = x_k + b_k;
+    periodic, x_0 = sum_k z^k b_k / (z^K - 1) (zero where z^K = 1: a root at zero).
+    """
+    k_parts, m = parts.shape[0], parts.shape[-1]
+    out = np.zeros(parts.shape[:-1] + starts.shape[-1:], complex)
+    out[..., keep, :] = starts
+    drop = np.setdiff1d(np.arange(m), keep)
+    if not len(drop):
+        return out
+    gain = parts[..., drop[:, None], keep] @ starts  # (K, ..., k, mr)
+    z = z[..., None, :]
+    powers = z[None] ** np.arange(k_parts).reshape((-1,) + (1,) * z.ndim)
+    denominator = z**k_parts - 1.0
+    usable = np.abs(denominator) > 1e-14
+    x = np.where(usable, (powers * gain).sum(0) / np.where(usable, denominator, 1.0), 0.0)
+    for k in range(k_parts):
+        out[k][..., drop, :] = x
+        x = (x + gain[k]) / z
+    return out
+
+
 def _periodic_samples(parts, starts, exponent, dt):
     """The periodic part at every part's start, from its values at group starts.
 
@@ -143,7 +172,7 @@ def _periodic_samples(parts, starts, exponent, dt):
     n_parts, n_groups = parts.shape[0], starts.shape[0]
     per = n_parts // n_groups
     decay = np.exp(-exponent * dt[:, None])[:, None, :]  # one part's exp(-lambda dt)
-    out = np.empty(parts.shape, complex)
+    out = np.empty(parts.shape[:-1] + starts.shape[-1:], complex)
     for gi in range(n_groups):
         y = starts[gi]
         for b in range(gi * per, (gi + 1) * per):
@@ -156,17 +185,17 @@ def _sampled_displacements(upto, vectors, exponent, dt, n):
     """Displacement rows of the periodic part at every part's start, from the transition
     matrices up to each part's end (one batched product).
 
-    upto : (B, k, m, m) Phi from 0 to the end of each part; vectors : (k, m, m);
-    exponent : (k, m); dt : (k,) duration of one part [s]. Returns (B, k, n, m):
+    upto : (B, k, m, m) Phi from 0 to the end of each part; vectors : (k, m, r);
+    exponent : (k, r); dt : (k,) duration of one part [s]. Returns (B, k, n, r):
     Phi(psi_b)[:n] v exp(-lambda b dt), Phi(psi_0) = I.
     """
-    out = np.empty(upto.shape[:2] + (n, upto.shape[-1]), complex)
+    out = np.empty(upto.shape[:2] + (n, vectors.shape[-1]), complex)
     out[0] = vectors[:, :n]
     if len(upto) > 1:  # (per speed, all samples' rows at once; real and imaginary parts apart)
         b, k, m = len(upto) - 1, upto.shape[1], upto.shape[-1]
         rows = np.swapaxes(upto[:-1, :, :n, :], 0, 1).reshape(k, b * n, m)
         for part, values in ((out.real, vectors.real), (out.imag, vectors.imag)):
-            part[1:] = np.swapaxes((rows @ values).reshape(k, b, n, m), 0, 1)
+            part[1:] = np.swapaxes((rows @ values).reshape(k, b, n, -1), 0, 1)
     steps = np.arange(len(upto))[:, None, None]
     out *= np.exp(-exponent[None] * (steps * dt[None, :, None]))[:, :, None, :]
     return out
@@ -266,16 +295,20 @@ def solve(
     damping = per_speed(damping, len(speeds))
     n = system.size
     m = 2 * n
+    integrals = system.integrals
+    keep = kept_states(n, integrals)
+    mr = len(keep)  # (the roots: the integrals' positions are no state, :func:`_full_vectors`)
     n_s = len(speeds)
     g = np.kron(np.eye(2), sym.g)
-    exponent = np.zeros((n_s, m), complex)
-    multiplier = np.zeros((n_s, m), complex)
-    key = np.zeros((n_s, m), complex)
-    vector = np.zeros((n_s, m, m), complex)
-    out_h = np.zeros((n_s, n, 2 * harmonics + 1, m), complex) if harmonics else None
+    g_kept = g[keep[:, None], keep]
+    exponent = np.zeros((n_s, mr), complex)
+    multiplier = np.zeros((n_s, mr), complex)
+    key = np.zeros((n_s, mr), complex)
+    vector = np.zeros((n_s, m, mr), complex)
+    out_h = np.zeros((n_s, n, 2 * harmonics + 1, mr), complex) if harmonics else None
     steps = np.zeros(n_s, int)
     lifted = np.zeros(n_s, bool)
-    lower, upper = (np.zeros((n_s, m)), np.zeros((n_s, m))) if bounds else (None, None)
+    lower, upper = (np.zeros((n_s, mr)), np.zeros((n_s, mr))) if bounds else (None, None)
     weights = system.kinetic_weights(speeds) if harmonics else None
     moving = np.flatnonzero(speeds > 0)
     still = np.flatnonzero(speeds <= 0)
@@ -286,7 +319,8 @@ def solve(
         mass, damp, stiff = system.matrices(speeds[still], 0.0)
         if damping is not None:
             damp = damp + np.einsum("sd,dij->sij", damping[still], system.damping_directions)
-        lam, x = np.linalg.eig(state_matrix(mass, damp, stiff))
+        lam, x = np.linalg.eig(state_matrix(mass, damp, stiff, integrals))
+        x = np.concatenate([displacements(x, lam, n, integrals), x[:, mr - n :]], axis=1)
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)
         if bounds:
             lower[still] = upper[still] = lam.real
@@ -319,10 +353,11 @@ def solve(
         idx = moving[sel]
         w = speeds[idx]
         dt = sym.angle / w
-        rho, vec = np.linalg.eig(g.T @ phi)
+        rho, vec = np.linalg.eig(g_kept.T @ phi[:, keep[:, None], keep])
         rho, vec = rho.astype(complex), vec.astype(complex)
         if bounds:
-            lower[idx], upper[idx] = _real_bounds(rho, vec, phi, error, dt)
+            lower[idx], upper[idx] = _real_bounds(rho, vec, phi[:, keep[:, None], keep], error, dt)
+        vec = _full_vectors((g.T @ phi)[None], vec[None], rho, keep)[0]
         size = np.log(np.maximum(np.abs(rho), 1e-300))
         lam = size / dt[:, None] + 1j * np.angle(rho) / dt[:, None]
         # decades spanned over the period: seen in the multipliers (which round-off
@@ -345,7 +380,9 @@ def solve(
                 fine = transition(system, w[j : j + 1], sym.angle, count, n_parts, tableau, c_j, compiled)[
                     :, 0
                 ]
-                z, at = lifted_eig(_group(fine, k_parts), g)
+                groups = _group(fine, k_parts)
+                z, at = lifted_eig(groups[:, keep[:, None], keep], g_kept)
+                at = _full_vectors(groups, at, z, keep)
                 if np.ptp(np.log(np.abs(z))) <= LIFT_STEP:
                     break
                 k_parts = 2 * k_parts

@@ -1,0 +1,74 @@
+"""Pitt-Peters dynamic inflow in hover: the three inflow states and their own terms.
+
+With ``inflow = "dynamic"`` the air through the disc is the trim's uniform
+inflow plus three states, velocities down the shaft [m/s]: ``v_uniform``, and
+``v_forward`` and ``v_left``, the values at the tip of parts growing linearly
+forward and to the left of the hub (``docs/theory.md``, "Dynamic inflow").
+In hover (Pitt and Peters 1981, "Theoretical prediction of dynamic-inflow
+derivatives", Vertica 5; Peters 2009, "How dynamic inflow survives in the
+competitive world of rotorcraft aerodynamics", JAHS 54), with psi = Omega t,
+nu = v / (Omega R) and lambda the trim inflow ratio:
+
+    M0 nu_0' + 4 lambda nu_0 = C_T,   M1 nu_f' + lambda nu_f = C_f,   M1 nu_l' + lambda nu_l = C_l
+
+with the apparent masses M0 = 128 / (75 pi), M1 = 16 / (45 pi), and the
+forcing the thrust's and the first moments' (forward, to the left) changes.
+Times rho pi R^4 Omega^2 each row is a force [N]:
+
+    rho pi R^3 M0 v_0. + 4 lambda rho pi R^3 Omega v_0 = dT
+
+and likewise for the moments over R. The inflow states are the rates of
+coordinates that appear nowhere else (:attr:`groundres.model.system.System.integrals`),
+so that the equations keep their second-order form; the blades' share of the
+forcing and the loads the inflow puts on them are derived
+(:func:`groundres.symbolic.aero.derive_inflow_coupling`); the own terms above
+are added here, a 1/N share with each blade.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..symbolic.codegen import air_values
+from . import trim as trim_module
+
+#: The inflow states, in order (the names of :data:`groundres.symbolic.aero.INFLOW_STATES`).
+STATES = ("uniform", "forward", "left")
+#: Apparent masses of the uniform and of the first-harmonic parts (Pitt and Peters 1981).
+APPARENT_MASS = (128.0 / (75.0 * math.pi), 16.0 / (45.0 * math.pi), 16.0 / (45.0 * math.pi))
+#: The inflow gains in hover over the trim inflow ratio: V L^-1 = diag(4, 1, 1) lambda.
+GAIN = (4.0, 1.0, 1.0)
+
+
+def states(aero) -> tuple:
+    """The inflow states of a rotor with ``aero`` (none in vacuum or with uniform inflow)."""
+    return STATES if aero is not None and aero.inflow == "dynamic" else ()
+
+
+def own_terms(aero, speeds, inflow_ratio) -> tuple:
+    """The inflow's own apparent mass (3,) [kg] and damping (3, n_s) [kg/s] (air density
+    in the system's mass unit)."""
+    scale = aero.air_density * math.pi * aero.tip_radius**3
+    mass = scale * np.array(APPARENT_MASS)
+    damping = scale * np.array(GAIN)[:, None] * (np.abs(inflow_ratio) * np.asarray(speeds))[None]
+    return mass, damping
+
+
+def with_inflow(arrays, blade, body, aero, state, n_blades: int) -> np.ndarray:
+    """One blade's arrays in air (3, 5, 8, 8, n_s) with the inflow states: (3, 5, 11, 11, n_s).
+
+    ``state`` is the trim state (speeds, inflow ratio, coning, trim lag) at every speed.
+    """
+    k = len(STATES)
+    n = arrays.shape[2]
+    out = np.zeros(arrays.shape[:2] + (n + k, n + k) + arrays.shape[4:])
+    out[:, :, :n, :n] = arrays
+    coefficients = trim_module.coefficients("inflow_in_air", blade, trim_module.hub_of(body), aero)
+    out[1:] += air_values("inflow_in_air", coefficients, *state)
+    mass, damping = own_terms(aero, state[0], state[1])
+    for i in range(k):
+        out[0, 0, n + i, n + i] += mass[i] / n_blades
+        out[1, 0, n + i, n + i] += damping[i] / n_blades
+    return out
