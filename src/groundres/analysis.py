@@ -308,7 +308,9 @@ def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=
     growth = float(roots.real.max())
     growth = 0.0 if stability.is_neutral(growth, speed) else growth
     duration = fit_growth(duration, growth, values, given is not None, speed, name)
-    history = integrate(system, speed, duration, (q0, v0), progress=progress, speed_text=name)
+    history = integrate(
+        system, speed, duration, (q0, v0), progress=progress, speed_text=name, growth=max(growth, 0.0)
+    )
     return Simulation(case, history, values, method, float(roots.real.max()))
 
 

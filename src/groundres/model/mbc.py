@@ -35,7 +35,8 @@ class Coordinate:
     Attributes
     ----------
     kind : str
-        "body", "lag" or "flap".
+        "body", "lag", "flap" or "inflow" (a state of dynamic inflow: its rate is the inflow
+        velocity, its displacement the air that velocity carries down).
     name : str
         Body: "x", "y", "pitch", "roll". Blade, multiblade: "0", "1c", "1s", ...,
         "d"; blade, individual: "1", "2", ... (blade index).
@@ -50,6 +51,12 @@ class Coordinate:
     name: str
     harmonic: int = 0
     frame: str = "nonrotating"
+
+    @property
+    def short(self) -> str:
+        """Name of a blade coordinate in a time history and its initial values: ``x``, ``lag1``,
+        ``inflow_uniform``."""
+        return self.symbol if self.kind in ("body", "inflow") else f"{self.kind}{self.name}"
 
     @property
     def symbol(self) -> str:

@@ -34,8 +34,10 @@ def _group(p) -> str:
     return "body translation" if p.name.split("_")[0] in TRANSLATIONS else "body rotation"
 
 
-_ORDER = ("body translation", "body rotation", "lag", "flap")
-_UNITS = {"body translation": "m", "body rotation": "rad", "lag": "rad", "flap": "rad"}
+_ORDER = ("body translation", "body rotation", "lag", "flap", "inflow")
+_UNITS = {"body translation": "m", "body rotation": "rad", "lag": "rad", "flap": "rad", "inflow": "m"}
+#: What a panel's arrows are, where the words for the other panels do not say it.
+_TITLES = {"inflow": "inflow (dashed: its velocity down the shaft)"}
 
 
 def phasor_diagram(shape, fig=None, speed_text="", scale="panel"):
@@ -76,10 +78,14 @@ def phasor_diagram(shape, fig=None, speed_text="", scale="panel"):
                 else (max((abs(p.displacement) for p in rows), default=1.0) or 1.0)
             )
             unit = _UNITS[group]
+            if not rows:  # (the inflow states have no rotating form: the air does not turn)
+                axes[r, c].text(0.5, 0.5, f"{group}: nonrotating only (above)", ha="center", va="center")
+                axes[r, c].set_axis_off()
+                continue
             _panel(axes[r, c], rows, radius, size, unit, ZERO * common)
             axes[r, c].set_xlabel(f"real part [{unit}]")
             axes[r, c].set_ylabel(f"imaginary part [{unit}]")
-            axes[r, c].set_title(f"{group}, {frame} axes [{unit}]", fontsize=10)
+            axes[r, c].set_title(f"{_TITLES.get(group, group)}, {frame} axes [{unit}]", fontsize=10)
     ratio = -lam.real / abs(lam) if abs(lam) > 0 else float("nan")
     flag = "UNSTABLE" if shape.unstable else ("neutral" if shape.neutral else "stable")
     lead = np.mean([p.rate_lead for p in table["nonrotating"] if abs(p.displacement) > 1e-3])

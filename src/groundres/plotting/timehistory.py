@@ -28,9 +28,11 @@ _ANGLES = ("pitch", "roll", "yaw")
 def envelope(time, values) -> np.ndarray:
     """Amplitude envelope of an oscillating signal, through the peaks of its magnitude.
 
-    The peaks are the samples that are the largest within a window of just
-    over one period of the signal (estimated from its zero crossings, at least
-    five samples); between them the envelope is interpolated on a log scale,
+    The peaks are the samples that are the largest within a window of half a
+    period of the signal (estimated from its zero crossings, at least five
+    samples): the magnitude peaks twice a period, and a wider window would let
+    the next, larger peak of a fast-growing signal hide each one (or the last,
+    of a fast-decaying one). Between them the envelope is interpolated on a log scale,
     so it does not dip between peaks and growth at a constant rate is a
     straight line on a log axis.
 
@@ -51,7 +53,7 @@ def envelope(time, values) -> np.ndarray:
     span = time[-1] - time[0]
     dt = span / max(len(time) - 1, 1)
     period = 2 * span / crossings if crossings else span
-    size = int(np.clip(1.1 * period / dt, 5, len(time)))
+    size = int(np.clip(0.5 * period / dt, 5, len(time)))
     peaks = np.flatnonzero(magnitude >= maximum_filter1d(magnitude, size=size, mode="nearest"))
     peaks = np.unique(np.r_[0, peaks, len(time) - 1])
     level = np.log(np.maximum(magnitude[peaks], np.finfo(float).tiny))
@@ -118,7 +120,8 @@ def time_history(
         told = f"d = {scale:.3g}, the largest displacement at the start [m or rad]"
     shown = sim.displacement / scale
     body = [i for i, c in enumerate(coords) if c.kind == "body"]
-    kinds = sorted({c.kind for c in coords if c.kind != "body"}, key=["lag", "flap"].index)
+    kinds = sorted({c.kind for c in coords if c.kind in ("lag", "flap")}, key=["lag", "flap"].index)
+    inflow = [i for i, c in enumerate(coords) if c.kind == "inflow"]
     t = sim.time
 
     def name(i):
@@ -133,8 +136,13 @@ def time_history(
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(10, 9), layout="constrained")
-    axes = fig.subplots(2 + len(kinds), 1, sharex=True)
-    log_ax, body_ax, blade_axes = axes[0], axes[1], axes[2:]
+    axes = fig.subplots(2 + len(kinds) + bool(inflow), 1, sharex=True)
+    log_ax, body_ax, blade_axes = axes[0], axes[1], axes[2 : 2 + len(kinds)]
+    if inflow:  # (the inflow states' rates are the inflow velocities)
+        for i in inflow:
+            axes[-1].plot(t, sim.velocity[:, i] / scale, lw=0.9, label=coords[i].name)
+        axes[-1].set_ylabel("inflow velocity / d [1/s]")
+        axes[-1].legend(loc="upper left", fontsize=8, ncol=3)
     _log_panel(log_ax, t, shown, body, coords, name, growth, predicted)
     trans = [i for i in body if coords[i].name not in _ANGLES]
     tilt = [i for i in body if coords[i].name in _ANGLES]

@@ -64,7 +64,10 @@ class Phasor:
 
     @property
     def unit(self) -> str:
-        """Unit of the displacement: "m" for body translations, "rad" for angles."""
+        """Unit of the displacement: "m" for body translations and the inflow states (whose rates
+        are the inflow velocities), "rad" for angles."""
+        if self.kind == "inflow":
+            return "m"
         return "m" if self.kind == "body" and self.name in ("x", "y", "z", "x_r", "y_r") else "rad"
 
     def as_dict(self) -> dict:

@@ -77,10 +77,7 @@ class Simulation:
 
     def column_names(self) -> list[str]:
         """A name with its unit for each coordinate: "x [m]", "lag1 [rad]"."""
-        return [
-            f"{c.symbol if c.kind == 'body' else f'{c.kind}{c.name}'} [{coordinate_unit(c)}]"
-            for c in self.coordinates
-        ]
+        return [f"{c.short} [{coordinate_unit(c)}]" for c in self.coordinates]
 
     def __repr__(self) -> str:
         from .display import simulation_text
@@ -122,7 +119,7 @@ class Simulation:
         dims ``time`` [s] and ``coordinate`` (each with its unit in ``unit``)."""
         import xarray as xr
 
-        names = [c.symbol if c.kind == "body" else f"{c.kind}{c.name}" for c in self.coordinates]
+        names = [c.short for c in self.coordinates]
         units = [coordinate_unit(c) for c in self.coordinates]
         return xr.Dataset(
             {

@@ -55,13 +55,22 @@ class TimeHistory:
     def growth_rate(self, start_fraction: float = 0.5) -> float:
         """Measured growth rate [1/s] of the motion.
 
-        The state norm (each coordinate and rate scaled by its largest value)
+        The state norm (each coordinate and rate scaled by its largest value; of
+        an inflow state, its rate only; where some are largest in the fitted
+        part, those only: a coordinate that decays all along, excited at the
+        start, carries none of the growing motion and would hide its rate)
         is sampled once per revolution, at the same azimuth, so the periodic
         modulation drops out; the slope of its logarithm over the last part of
         the run (from ``start_fraction`` of the time on) is the growth rate.
         """
         period = 2 * np.pi / self.rotor_speed
-        state = np.hstack([self.displacement, self.velocity])
+        moving = [i for i, c in enumerate(self.coordinates) if c.kind != "inflow"]
+        # (an inflow state's displacement is no state: it keeps what its velocity carried)
+        state = np.hstack([self.displacement[:, moving], self.velocity])
+        late = self.time >= self.time[0] + start_fraction * (self.time[-1] - self.time[0])
+        growing = np.argmax(np.abs(state), axis=0) >= np.argmax(late)
+        if growing.any():  # (a column that only decays, scaled by its start, would hide the growth)
+            state = state[:, growing]
         scale = np.maximum(np.abs(state).max(0), 1e-300)
         norm = np.linalg.norm(state / scale, axis=1)
         revs = np.arange(np.ceil(self.time[0] / period), np.floor(self.time[-1] / period) + 1) * period
@@ -95,6 +104,7 @@ def integrate(
     progress=None,
     max_steps: float | None = None,
     speed_text: str | None = None,
+    growth: float = 0.0,
 ):
     """Integrate the equations from ``initial`` = (q0, qdot0) over ``duration`` [s].
 
@@ -119,6 +129,13 @@ def integrate(
         :class:`~groundres.errors.ModelRangeError` (round-off can keep an
         adaptive step from growing); by default four times the estimate
         (:func:`estimate_steps`), at least 2000 and at most 4 :data:`MAX_STEPS`.
+    growth : float
+        A rate g [1/s] (the expected growth, >= 0) by which the state is scaled
+        while it is integrated: z = x exp(-g t), z' = A(t) z - g z, so that a
+        growing motion stays of one size and the tolerances keep their meaning
+        (a part that cancels to round-off, such as a collective response to
+        cyclic motion, would otherwise hold the step to round-off of a state
+        grown by decades). The motion returned is x; g changes only its scaling.
 
     Raises
     ------
@@ -153,7 +170,7 @@ def integrate(
         w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
         m, c, k = np.tensordot(w, mats, axes=(0, 1))
         q, v = x[:n], x[n:]
-        return np.concatenate([v, np.linalg.solve(m, -(c @ v + k @ q))])
+        return np.concatenate([v, np.linalg.solve(m, -(c @ v + k @ q))]) - growth * x
 
     q0, v0 = (np.asarray(a, dtype=float) for a in initial)
     times = np.linspace(0.0, duration, points)
@@ -169,7 +186,8 @@ def integrate(
     )
     if not sol.success:
         raise RuntimeError(f"time integration failed: {sol.message}")
-    return TimeHistory(sol.t, sol.y[:n].T, sol.y[n:].T, system.coordinates, float(speed), rtol, float(atol))
+    y = sol.y * np.exp(growth * sol.t)
+    return TimeHistory(sol.t, y[:n].T, y[n:].T, system.coordinates, float(speed), rtol, float(atol))
 
 
 #: The default initial disturbance [m, rad]: every body coordinate and blade 1's lag.
@@ -209,7 +227,7 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
         names), a value that is not a finite number within +-:data:`LARGEST_MOTION`,
         or values that are all zero.
     """
-    names = [c.name if c.kind == "body" else f"{c.kind}{c.name}" for c in system.coordinates]
+    names = [c.short for c in system.coordinates]
     q0, v0 = np.zeros(system.size), np.zeros(system.size)
     for key, value in values.items():
         base, rate = (key[:-5], True) if key.endswith("_rate") else (key, False)
