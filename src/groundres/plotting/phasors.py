@@ -37,7 +37,7 @@ def _group(p) -> str:
 _ORDER = ("body translation", "body rotation", "lag", "flap", "inflow")
 _UNITS = {"body translation": "m", "body rotation": "rad", "lag": "rad", "flap": "rad", "inflow": "m"}
 #: What a panel's arrows are, where the words for the other panels do not say it.
-_TITLES = {"inflow": "inflow (dashed: its velocity down the shaft)"}
+_TITLES = {"inflow": "inflow (dashed: velocity)"}
 
 
 def phasor_diagram(shape, fig=None, speed_text="", scale="panel"):
