@@ -232,7 +232,7 @@ def air_header(summary: dict) -> str:
     )
     return (
         f"In air: {lock}, {density}, solidity {a['solidity']:.4g}; collective {a['collective']:.4g} deg, "
-        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {a['inflow']} inflow."
+        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {'Pitt-Peters dynamic' if a['inflow'] == 'dynamic' else 'uniform'} inflow."
     )
 
 
