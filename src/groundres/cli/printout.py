@@ -13,6 +13,9 @@ from ..results.air import DEUTSCH_IN_AIR, shown_rows
 from ..results.summary import SWEEP_END_NOTE, SWEEP_START_NOTE, no_exact_reason, open_below_note
 from .common import plain
 
+#: How the terminal names each inflow model.
+INFLOW_WORDS = {"uniform": "uniform", "dynamic": "Pitt-Peters dynamic"}
+
 
 def simple_table(title: str):
     """A table that fits 80 columns: a rule under the header, two spaces between columns."""
@@ -232,7 +235,7 @@ def air_header(summary: dict) -> str:
     )
     return (
         f"In air: {lock}, {density}, solidity {a['solidity']:.4g}; collective {a['collective']:.4g} deg, "
-        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {'Pitt-Peters dynamic' if a['inflow'] == 'dynamic' else 'uniform'} inflow."
+        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {INFLOW_WORDS[a['inflow']]} inflow."
     )
 
 
