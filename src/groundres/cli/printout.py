@@ -235,7 +235,8 @@ def air_header(summary: dict) -> str:
     )
     return (
         f"In air: {lock}, {density}, solidity {a['solidity']:.4g}; collective {a['collective']:.4g} deg, "
-        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; {INFLOW_WORDS[a['inflow']]} inflow."
+        f"twist {a['twist']:.4g} deg{', ' + couplings if couplings else ''}; "
+        f"{INFLOW_WORDS[a['inflow']]} inflow."
     )
 
 
