@@ -13,6 +13,13 @@ vacuum (trim included). Medians of paired runs, alternating, in one process.
 A Floquet analysis in air (a failed damper) is timed too: each speed on the
 equations frozen at its own trim.
 
+The whole analysis does different work in air and in vacuum: the air couples
+flap and lag (larger eigenproblems), and the ranges, margins and damping
+search take the steps their roots ask for. So the same work is also timed on
+its own: the sweep (the form at every speed of the grid, eigenvectors,
+tracking; trims and the air's form built from nothing), and single new speeds
+as scans and searches ask for them (each a trim, a form and its roots).
+
 Run in the default environment: python3 benchmarks/bench_air.py [--repeats N]
 """
 
@@ -20,6 +27,8 @@ import argparse
 import statistics
 import time
 import tomllib
+
+import numpy as np
 
 from groundres import analyze
 from groundres.model.casefile import case_text
@@ -49,6 +58,30 @@ def paired(case, repeats: int) -> tuple[float, float]:
     return statistics.median(times["vacuum"]), statistics.median(times["air"])
 
 
+def same_work(case, repeats: int) -> dict:
+    """Median seconds of the same work in vacuum and in air: the sweep from nothing, and the
+    largest real parts at 200 new speeds one at a time (per speed)."""
+    from groundres.methods import choose_method
+    from groundres.solve.solvers import solver_for
+
+    out = {}
+    for name, c in (("vacuum", case.in_vacuum()), ("air", case)):
+        speeds = c.sweep.speeds
+        sweep, single = [], []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            solver = solver_for(c, choose_method(c))
+            solver.sweep(speeds)
+            sweep.append(time.perf_counter() - start)
+            news = np.linspace(speeds[0], speeds[-1], 200) * (1 + 1e-4)
+            start = time.perf_counter()
+            for w in news:
+                solver.real_parts(np.array([w]))
+            single.append((time.perf_counter() - start) / len(news))
+        out[name] = (statistics.median(sweep), statistics.median(single))
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
@@ -58,6 +91,13 @@ def main() -> None:
     for name in EIGEN:
         vacuum, air = paired(load_case(name), options.repeats)
         print(f"{name:40s} {vacuum:11.3f} {air:9.3f} {air / vacuum:7.2f}")
+    print(f"\n{'the same work':40s} {'vacuum':>11s} {'air':>9s} {'ratio':>7s}")
+    for name in EIGEN + ["model-rotor-hover-9deg-dynamic-inflow"]:
+        work = same_work(load_case(name), options.repeats)
+        for k, what in enumerate(("sweep [s]", "new speed [ms]")):
+            v, a = work["vacuum"][k], work["air"][k]
+            scale = 1e3 if k else 1.0
+            print(f"{name + ', ' + what:40s} {v * scale:11.3f} {a * scale:9.3f} {a / v:7.2f}")
     case = failed("model-rotor-hover-9deg", options.floquet_points)
     vacuum, air = paired(case, max(1, options.repeats // 2))
     label = f"model-rotor-hover-9deg, blade 1 failed ({options.floquet_points} speeds, Floquet)"

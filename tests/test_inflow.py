@@ -248,3 +248,37 @@ def test_the_inflow_modes_are_labelled_by_content():
     scale = np.abs(eigen.modes.real_part).max()
     np.testing.assert_allclose(floquet.modes.real_part, eigen.modes.real_part, rtol=0, atol=1e-8 * scale)
     assert math.isfinite(float(np.abs(eigen.modes.shape).max()))
+
+
+@pytest.mark.parametrize(
+    "inflow, blades, dofs",
+    [
+        ("uniform", "alike", ("pitch", "roll")),
+        ("dynamic", "alike", ("pitch", "roll")),
+        ("dynamic", "one", ("x", "y")),
+    ],
+)
+def test_the_form_from_monomials_equals_the_assembled_one(inflow, blades, dofs):
+    """groundres.model.airform: the time-invariant form summed over monomials of the trim state
+    equals the one assembled from the blades' matrices, to round-off, over three bands of
+    speeds (multiblade for identical blades; rotating axes for a dissimilar one on a body that
+    only translates)."""
+    from groundres.model.airform import AirForm
+
+    blade = Blade(60.0, 132.0, 406.0, 0.5, lag_stiffness=21119.0, flap_stiffness=5074.0, lag_damping=300.0)
+    other = Blade(64.0, 132.0, 420.0, 0.5, lag_stiffness=21119.0, flap_stiffness=5074.0, lag_damping=0.0)
+    if dofs == ("x", "y"):
+        body = Body(dofs=dofs, mass_x=2000.0, mass_y=2000.0, stiffness_x=1e6, stiffness_y=1e6, hub_height=1.2)
+    else:
+        body = Body(
+            dofs=dofs, inertia_pitch=2000.0, inertia_roll=900.0, stiffness_pitch=3e5, stiffness_roll=2e5
+        )
+    aero = Aero(1.225, 5.7, 0.35, 5.0, root_cutout=0.6, collective=0.12, pitch_lag=-0.3, inflow=inflow)
+    rotor = Rotor((blade,) * 3 + ((blade,) if blades == "alike" else (other,)), flap=True, aero=aero)
+    system = System(rotor, body)
+    transform = system.multiblade if blades == "alike" else system.rotating_axes
+    form = AirForm(system, lambda w, h: transform(w, harmonics=h))
+    speeds = np.array([0.0, 3.0, 11.0, 17.0, 40.0, 90.0])
+    got, want = form(speeds), transform(speeds)
+    scale = np.abs(want).max(axis=(2, 3), keepdims=True)
+    assert (np.abs(got - want) <= 1e-13 * scale).all(), np.abs(got - want).max()

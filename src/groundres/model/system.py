@@ -120,6 +120,12 @@ class System:
         ]
         return body + blades
 
+    @property
+    def local_indices(self) -> list[int]:
+        """Where each coordinate a blade touches sits among a blade's local coordinates
+        (LOCAL_DOFS, then the inflow states): the body's, the inflow states, lag, flap."""
+        return list(self._local)
+
     def _nonrotating_coordinates(self) -> list[Coordinate]:
         return [Coordinate("body", d) for d in self.body.dofs] + [
             Coordinate("inflow", d) for d in self.inflow_states
@@ -355,8 +361,9 @@ class System:
         names = mbc.multiblade_names(self.n_blades)
         return body + [Coordinate(kind, name, n) for kind in self.blade_kinds for name, n in names]
 
-    def multiblade(self, speeds, phase=0.0):
-        """Equations in multiblade coordinates (time-invariant for identical blades, N >= 3).
+    def multiblade(self, speeds, phase=0.0, harmonics=None):
+        """Equations in multiblade coordinates (time-invariant for identical blades, N >= 3);
+        ``harmonics`` as in :meth:`matrices`.
 
         Returns
         -------
@@ -364,7 +371,7 @@ class System:
             Mass, damping, stiffness at blade-1 azimuth ``phase``.
         """
         speeds = np.asarray(speeds, dtype=float)
-        m, c, k = self.matrices(speeds, phase)
+        m, c, k = self.matrices(speeds, phase, harmonics)
         basis, d1, d2 = mbc.multiblade_basis(self.n_blades, np.broadcast_to(phase, speeds.shape))
         w = speeds[:, None, None]
         kinds = len(self.blade_kinds)
@@ -375,8 +382,9 @@ class System:
         t_ddot[..., : self.n_body, : self.n_body] = 0.0
         return np.stack(mbc.transform_equations(m, c, k, t, t_dot, t_ddot))
 
-    def rotating_axes(self, speeds, phase=0.0):
-        """Equations with the body in rotating axes (time-invariant for an isotropic body).
+    def rotating_axes(self, speeds, phase=0.0, harmonics=None):
+        """Equations with the body in rotating axes (time-invariant for an isotropic body);
+        ``harmonics`` as in :meth:`matrices`.
 
         The pairs (x, y) and (pitch, roll), and the inflow states forward and left,
         turn with the rotor; a body with only one of a pair is anisotropic and has
@@ -386,7 +394,7 @@ class System:
         for a, b in (("x", "y"), ("pitch", "roll")):
             if (a in self.body.dofs) != (b in self.body.dofs):
                 raise ValueError(f"rotating axes need both {a} and {b} in the body dofs")
-        m, c, k = self.matrices(speeds, phase)
+        m, c, k = self.matrices(speeds, phase, harmonics)
         phase = np.broadcast_to(phase, speeds.shape)
         rot, d_rot, d2_rot = mbc.rotation_basis(phase)
         n = self.size

@@ -28,6 +28,12 @@ from .speedtable import SpeedTable
 MAX_STEPS = 60
 #: Converged where no step moves an angle or lambda by more than this [rad, -].
 TOLERANCE = 1e-14
+#: A step below this [rad, -] is the last: Newton's method converges quadratically, so the
+#: step after it would be of its square (below TOLERANCE), and the loads at the trim are those
+#: of the last evaluation moved by the step along their derivatives (to its square, too).
+LAST_STEP = 1e-8
+#: Speeds trimmed first, from zero, where many are asked with no guess: the rest start from them.
+COARSE = 24
 #: Largest Newton step in an angle [rad] and in lambda: keeps the first steps sane.
 MAX_STEP = 0.2
 
@@ -133,8 +139,9 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
 
     ``rotor`` and ``body`` are in a mass unit of ``unit_kg`` kg
     (:class:`groundres.model.units.MassUnit`); the thrust and torque returned are SI.
-    Newton's method starts from zero, or from ``guess`` (trims found at other speeds)
-    interpolated to each speed.
+    Newton's method starts from zero, or from ``guess`` (trims found at other speeds, sorted)
+    interpolated to each speed (:func:`_interpolated`: a new speed among many found takes a
+    single evaluation of the loads).
 
     Raises
     ------
@@ -145,6 +152,9 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     aero = rotor.aero
     speeds = np.asarray(speeds, dtype=float)
     n_s, n = speeds.size, rotor.n_blades
+    if guess is None and n_s > 2 * COARSE:  # (a few from zero, the rest from them: fewer steps)
+        first = np.unique(np.quantile(speeds, np.linspace(0, 1, COARSE)))
+        guess = solve_trim(rotor, body, first, unit_kg)
     # Distinct blades trim on their own; alike ones share one trim.
     kinds = list(dict.fromkeys(rotor.blades))
     which = [kinds.index(b) for b in rotor.blades]
@@ -158,15 +168,17 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     beta, zeta, lam = np.zeros((n_s, k)), np.zeros((n_s, k)), np.zeros(n_s)
     if guess is not None and len(guess.rotor_speed):
         first = [which.index(j) for j in range(k)]  # (a blade of each kind)
-        lam = np.interp(speeds, guess.rotor_speed, guess.inflow_ratio)
+        lam = _interpolated(speeds, guess.rotor_speed, guess.inflow_ratio)
         for j, blade in enumerate(first):
-            beta[:, j] = np.interp(speeds, guess.rotor_speed, guess.coning[:, blade])
-            zeta[:, j] = np.interp(speeds, guess.rotor_speed, guess.trim_lag[:, blade])
+            beta[:, j] = _interpolated(speeds, guess.rotor_speed, guess.coning[:, blade])
+            zeta[:, j] = _interpolated(speeds, guess.rotor_speed, guess.trim_lag[:, blade])
     spinning = speeds > 0
     area = math.pi * aero.tip_radius**2
     momentum = aero.air_density * area * (speeds * aero.tip_radius) ** 2  # T = momentum * C_T
     live = spinning & (aero.air_density > 0)
+    beta[~live], zeta[~live], lam[~live] = 0.0, 0.0, 0.0  # (no load: the blades at rest, no inflow)
     active = np.flatnonzero(live)
+    thrust_at, torque_at = np.zeros(n_s), np.zeros(n_s)  # (SI after the unit below)
     for _ in range(MAX_STEPS):
         if active.size == 0:
             break
@@ -177,6 +189,8 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         residual = np.zeros((m, size))
         jacobian = np.zeros((m, size, size))
         thrust = np.zeros(m)
+        # thrust and torque, and their derivatives in the unknowns (the last step moves them)
+        moved = np.zeros((2, m, size + 1))
         for j, value in enumerate(loads):
             for row in range(2):
                 residual[:, 2 * j + row] = value[row, 0]
@@ -188,6 +202,11 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
                 jacobian[:, 2 * j, :] = 0.0
                 jacobian[:, 2 * j, 2 * j] = 1.0
             thrust += count[j] * value[2, 0]
+            for r, row in enumerate((2, 3)):
+                moved[r, :, 0] += count[j] * value[row, 0]
+                moved[r, :, 1 + 2 * j] += count[j] * value[row, 1]
+                moved[r, :, 2 + 2 * j] += count[j] * value[row, 2]
+                moved[r, :, -1] += count[j] * value[row, 3]
             jacobian[:, -1, 2 * j] = count[j] * value[2, 1]
             jacobian[:, -1, 2 * j + 1] = count[j] * value[2, 2]
             jacobian[:, -1, -1] += count[j] * value[2, 3]
@@ -207,21 +226,18 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         beta[active] += step[:, 0:-1:2]
         zeta[active] += step[:, 1:-1:2]
         lam[active] += step[:, -1]
+        # (with flap held, its row's derivatives in coning are those of the held hinge: none move)
+        thrust_at[active] = moved[0, :, 0] + np.einsum("mi,mi->m", moved[0, :, 1:], step)
+        torque_at[active] = moved[1, :, 0] + np.einsum("mi,mi->m", moved[1, :, 1:], step)
         scale = 1 + np.abs(np.concatenate([beta[active], zeta[active], lam[active, None]], axis=1)).max(-1)
-        active = active[biggest > TOLERANCE * scale]
+        active = active[biggest > LAST_STEP * scale]
     else:
         _no_trim(speeds[active[0]], rotor)
     beyond = np.flatnonzero(((np.abs(beta) > math.pi / 2) | (np.abs(zeta) > math.pi / 2)).any(1))
     if len(beyond):
         _no_trim(speeds[beyond[0]], rotor)
-    # Thrust and torque at the converged trim (zero where the rotor stands still or has no air).
-    thrust, torque = np.zeros(n_s), np.zeros(n_s)
-    if live.any():
-        w = speeds[live]
-        for j in range(k):
-            value = trim_loads(w, j, lam[live], beta[live, j], zeta[live, j])
-            thrust[live] += count[j] * value[2, 0]
-            torque[live] += count[j] * value[3, 0]
+    # (thrust and torque zero where the rotor stands still or has no air)
+    thrust, torque = thrust_at, torque_at
     return Trim(
         rotor_speed=speeds,
         inflow_ratio=lam,
@@ -232,6 +248,23 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         thrust_coefficient=2 * lam * np.abs(lam),
         solidity=aero.solidity(n),
     )
+
+
+def _interpolated(speeds, known, values) -> np.ndarray:
+    """``values`` at ``known`` speeds (sorted) interpolated to ``speeds`` through the three nearest
+    (a parabola: its error, of the third power of their spacing, leaves Newton's method one
+    step); linear with two, the one value with one; outside them, the nearest value."""
+    if len(known) < 3:
+        return np.interp(speeds, known, values)
+    at = np.clip(np.searchsorted(known, speeds) - 1, 0, len(known) - 3)
+    x0, x1, x2 = (known[at + i] for i in range(3))
+    y0, y1, y2 = (values[at + i] for i in range(3))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d01 = (y1 - y0) / (x1 - x0)
+        d12 = (y2 - y1) / (x2 - x1)
+        out = y0 + (speeds - x0) * (d01 + (speeds - x1) * (d12 - d01) / (x2 - x0))
+    inside = np.isfinite(out) & (speeds >= known[0]) & (speeds <= known[-1])
+    return np.where(inside, out, np.interp(speeds, known, values))
 
 
 def _no_trim(speed: float, rotor) -> None:

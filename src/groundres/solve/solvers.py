@@ -41,6 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..methods import Method
+from ..model.airform import AirForm
 from ..model.body import ROTATING_PAIRS
 from ..model.speedtable import SpeedTable
 from ..model.system import System
@@ -48,6 +49,10 @@ from . import modal
 from .floquet import exponents, transition
 from .floquet.symmetry import symmetry
 from .floquet.tableau import DOP8
+
+#: In air, batches of at least this many new speeds are assembled from the blades' matrices;
+#: shorter ones (a scan's, a search's) summed over the monomials of the trim state.
+AIR_BATCH = 64
 
 
 class Solver:
@@ -118,7 +123,15 @@ class _TimeInvariant(Solver):
     """Eigenvalues of a time-invariant form, batched over speeds."""
 
     def form(self, speeds):
-        """Mass, damping and stiffness of the time-invariant form, (3, n_s, n, n)."""
+        """Mass, damping and stiffness of the time-invariant form, (3, n_s, n, n) (in air from
+        the monomials of the trim state, :meth:`_air_form`)."""
+        if self.system.rotor.aero is not None:
+            return np.stack(self._air_form(speeds))
+        return self.transform(speeds)
+
+    def transform(self, speeds, harmonics=None):
+        """The form at ``speeds`` of the system, or of one whose blade harmonic arrays are
+        ``harmonics`` (:meth:`groundres.model.system.System.matrices`)."""
         raise NotImplementedError
 
     def _blocks(self, mats):
@@ -145,14 +158,15 @@ class _TimeInvariant(Solver):
         """
         speeds = np.asarray(speeds, dtype=float)
         if self.system.rotor.aero is not None:
-            # In air the trim changes with the speed: no polynomial in Omega holds the matrices;
-            # a trial lag damping is a line between the undamped and the unit one.
+            # In air the trim changes with the speed: no polynomial in Omega holds the matrices,
+            # but monomials of the trim state do; a trial lag damping adds c (dA + Omega dB).
             line = self.__dict__.get("_air_line")
             if line is None:
-                return self._kept_form(speeds)
-            (zero, one), c = line
-            (m, c0, k0), (_, c1, k1) = zero._kept_form(speeds), one._kept_form(speeds)
-            return m, c0 + c * (c1 - c0), k0 + c * (k1 - k0)
+                return self._air_form(speeds)
+            zero, (d_a, d_b), c = line
+            m, c0, k0 = zero._air_form(speeds)
+            w = speeds[:, None, None]
+            return m, c0 + c * (d_a[1] + w * d_b[1]), k0 + c * (d_a[2] + w * d_b[2])
         with np.errstate(divide="ignore"):
             band = np.exp2(np.ceil(np.log2(np.maximum(speeds, 1e-300))))
         m0 = self._fit(float(band[0]))[0] if len(speeds) else self._fit(1.0)[0]
@@ -165,25 +179,35 @@ class _TimeInvariant(Solver):
             c[sel], k[sel] = c0 + x * c1, k0 + x * (k1 + x * k2)
         return m, c, k
 
-    def _kept_form(self, speeds):
-        """The form at ``speeds``, each speed's kept (:class:`groundres.model.speedtable.SpeedTable`:
-        in air, scans and searches, and the trials of a damping search, come back to the same
-        speeds); the new ones computed together."""
+    def _air_form(self, speeds):
+        """In air: the form at ``speeds`` from monomials of the trim state
+        (:class:`groundres.model.airform.AirForm`; long batches assembled, :data:`AIR_BATCH`),
+        each speed's kept
+        (:class:`groundres.model.speedtable.SpeedTable`: scans and searches, and the trials
+        of a damping search, come back to the same speeds); the new ones computed together."""
         if "_forms" not in self.__dict__:
-            self._forms = SpeedTable(lambda speeds, _: self.form(speeds), limit=20_000)
-        return self._forms(speeds)
+            form = AirForm(self.system, self.transform)
+
+            def compute(speeds, _):  # (a long batch assembled as it is: no bands to build for it)
+                return self.transform(speeds) if len(speeds) >= AIR_BATCH else form(speeds)
+
+            self._forms = SpeedTable(compute, limit=20_000)
+        return self._forms(np.asarray(speeds, dtype=float))
 
     def with_lag_damping(self, value, in_unit=False):
-        """As :meth:`Solver.with_lag_damping`; in air the trial's form is a line between the
-        undamped and the unit lag damping, whose forms are kept (the damping enters linearly)."""
+        """As :meth:`Solver.with_lag_damping`; in air the trial's form is the undamped one's plus
+        the damping's own, exactly dA + Omega dB times the damping (the dampers hold no load
+        at the trim, and the transforms add Omega to a constant damping's stiffness)."""
         new = super().with_lag_damping(value, in_unit)
         if self.system.rotor.aero is not None:
             value = value if in_unit else self.system.mass_unit.from_si(value)
             if "_air_ends" not in self.__dict__:
-                self._air_ends = tuple(
-                    super(_TimeInvariant, self).with_lag_damping(c, True) for c in (0.0, 1.0)
-                )
-            new._air_line = (self._air_ends, value)
+                zero, one = (super(_TimeInvariant, self).with_lag_damping(c, True) for c in (0.0, 1.0))
+                at = np.array([0.0, 1.0])
+                delta = one.transform(at) - zero.transform(at)  # (3, 2, n, n): linear in Omega
+                self._air_ends = (zero, (delta[:, 0], delta[:, 1] - delta[:, 0]))
+            zero, direction = self._air_ends
+            new._air_line = (zero, direction, value)
         return new
 
     def _scan_roots(self, speeds):
@@ -233,8 +257,8 @@ class Multiblade(_TimeInvariant):
             self.blocks = modal.coupling_blocks(*mats)
         return self.blocks
 
-    def form(self, speeds):
-        return self.system.multiblade(speeds)
+    def transform(self, speeds, harmonics=None):
+        return self.system.multiblade(speeds, harmonics=harmonics)
 
     def with_lag_damping(self, value, in_unit=False):
         new = super().with_lag_damping(value, in_unit)
@@ -249,8 +273,8 @@ class Rotating(_TimeInvariant):
     #: Instants over one period at which the motion is seen from nonrotating axes.
     samples = 16
 
-    def form(self, speeds):
-        return self.system.rotating_axes(speeds)
+    def transform(self, speeds, harmonics=None):
+        return self.system.rotating_axes(speeds, harmonics=harmonics)
 
     def sweep(self, speeds, progress=None):
         """As :meth:`_TimeInvariant.sweep`, the motion's harmonics seen from nonrotating axes."""

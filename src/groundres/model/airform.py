@@ -1,0 +1,164 @@
+"""The time-invariant forms of a rotor in air, as sums over monomials of the trim state.
+
+In vacuum the multiblade and rotating-axes forms are quadratic in the rotor
+speed, so three speeds give them everywhere. In air the trim changes with the
+speed, but every blade array is still ``sum_k m_k(state) X_k``: monomials of
+the trim state (speed, inflow ratio, each blade's coning and trim lag, their
+cosines and sines) times fixed arrays (:func:`groundres.symbolic.codegen.air_values`),
+and the dynamic inflow's own terms are a constant and ``abs(lambda) Omega``
+times fixed arrays. The transforms are linear in the blade arrays and add
+their own Omega and Omega^2, so each form is exactly
+
+    F(Omega) = F_0(Omega) + sum_s v_s(Omega) (A_s + Omega B_s + Omega^2 C_s),
+
+F_0 the body's and the damper rods' part, v_s the value of source s (a
+monomial of one blade's trim state) at the speed. :class:`AirForm` finds
+A_s, B_s and C_s once per band of speeds (the transform of every source that
+touches the system's coordinates at the speeds 0 and +-b, b a power of
+:data:`BAND`, so that the round-off of B and C, that of F at b, stays within
+BAND^2 of F's own at any speed of the band) and evaluates F at any speeds as
+one matrix product after the trims: a scan's or search's new speed costs its
+trim and a product, not the assembly of the blades' matrices.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..symbolic.codegen import air_monomials
+from . import inflow as inflow_module
+from . import trim as trim_module
+
+#: Sources transformed at once while the form is built (bounds the memory).
+CHUNK = 256
+#: Ratio of one band of speeds to the next (module docstring).
+BAND = 16.0
+
+
+class AirForm:
+    """A time-invariant form of a system in air (module docstring).
+
+    Parameters
+    ----------
+    system : System
+        A rotor in air (not frozen at one trim).
+    transform : callable
+        ``transform(speeds, harmonics) -> (3, n_s, n, n)``: the form of the system whose
+        blade harmonic arrays are ``harmonics`` (n_s, N, 3, 5, nl, nl) at ``speeds``
+        (:meth:`groundres.model.system.System.multiblade` or ``rotating_axes``).
+    """
+
+    def __init__(self, system, transform):
+        self.system, self.transform = system, transform
+        self.sources = _sources(system)  # [(blade or None, kind, arrays (K, 3, 5, nl, nl), which)]
+        self.bands = {}
+
+    def _band(self, band: float):
+        """(A, B, C) of every source and of F_0 at ``band`` [rad/s], (3, 1 + S, 3 n^2)."""
+        if band not in self.bands:
+            system = self.system
+            n_b, shape = system.n_blades, self.sources[0][2].shape[1:]
+            rows = [(None, np.zeros(shape))] + [
+                (blade, array) for blade, _, arrays, _ in self.sources for array in arrays
+            ]
+            parts = []
+            for start in range(0, len(rows), CHUNK):
+                chunk = rows[start : start + CHUNK]
+                harmonics = np.zeros((len(chunk), n_b) + shape)
+                for i, (blade, array) in enumerate(chunk):
+                    harmonics[i, slice(None) if blade is None else blade] = array
+                at = [
+                    self.transform(np.full(len(chunk), w), harmonics).reshape(3, len(chunk), -1)
+                    for w in (0.0, band, -band)
+                ]
+                parts.append(np.stack(at, 1))  # (3 groups, 3 speeds, rows, n^2)
+            f = np.concatenate(parts, axis=2)
+            f[:, :, 1:] -= f[:, :, :1]  # (each source without the body's part)
+            a = f[:, 0]
+            b = (f[:, 1] - f[:, 2]) / (2 * band)
+            c = (f[:, 1] + f[:, 2] - 2 * a) / (2 * band**2)
+            self.bands[band] = np.stack([a, b, c]).transpose(0, 2, 1, 3).reshape(3, len(rows), -1)
+        return self.bands[band]
+
+    def values(self, speeds) -> np.ndarray:
+        """v_s at ``speeds`` (n_s, 1 + S): one for F_0, then every source's value."""
+        system = self.system
+        trim = system.trim(speeds)
+        columns = [np.ones((len(speeds), 1))]
+        for blade, kind, _, touch in self.sources:
+            k = 0 if blade is None else blade
+            if kind == "own-mass":
+                columns.append(np.ones((len(speeds), 1)))
+            elif kind == "own-damping":
+                columns.append((np.abs(trim.inflow_ratio) * speeds)[:, None])
+            else:
+                state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
+                columns.append(air_monomials(kind, *state)[:, touch])
+        return np.concatenate(columns, axis=1)
+
+    def __call__(self, speeds):
+        """Mass, damping and stiffness of the form at ``speeds`` [rad/s], (3, n_s, n, n)."""
+        speeds = np.asarray(speeds, dtype=float).reshape(-1)
+        n = self.system.size
+        out = np.empty((3, len(speeds), n * n))
+        values = self.values(speeds)
+        with np.errstate(divide="ignore"):  # (at rest only A counts: any band)
+            band = np.where(
+                speeds > 0, BAND ** np.ceil(np.log(np.maximum(speeds, 1e-300)) / np.log(BAND)), 1.0
+            )
+        band = np.where(band > 0, band, 1.0)
+        for b in np.unique(band):
+            sel = band == b
+            w = speeds[sel][:, None]
+            v = values[sel]
+            a, b_, c = self._band(float(b))
+            found = v @ a + (w * v) @ b_ + (w * w * v) @ c  # (n_sel, 3 n^2)
+            out[:, sel] = found.reshape(-1, 3, n * n).transpose(1, 0, 2)
+        return out.reshape(3, len(speeds), n, n)
+
+
+def _sources(system) -> list:
+    """The blades' arrays in air as sources: (blade, kind, arrays (K, 3, 5, nl, nl), which of the
+    kind's monomials they are (K,)) with
+    ``blade`` None for every blade alike (then the first blade's trim gives the values),
+    ``kind`` the generated function whose monomials weigh ``arrays``, or "own-mass" and
+    "own-damping" for the dynamic inflow's own terms (a 1/N share on every blade)."""
+    rotor, body = system.rotor, system.body
+    aero = rotor.aero
+    out = []
+
+    def add(blade, kind, arrays):  # (the monomials that touch the system's coordinates only)
+        touch = np.flatnonzero(np.abs(arrays).reshape(len(arrays), -1).max(-1) > 0)
+        out.append((blade, kind, arrays[touch], touch))
+
+    index = np.array(system.local_indices)
+
+    def local(arrays):  # (every monomial's arrays on the system's coordinates)
+        return arrays[:, :, :, index][:, :, :, :, index]
+
+    n_inflow = len(system.inflow_states)
+    blades = [None] if rotor.blades_alike else list(range(system.n_blades))
+    for k in blades:
+        blade = rotor.blades[0 if k is None else k]
+        hub = trim_module.hub_of(body)
+        arrays = trim_module.coefficients("blade_in_air", blade, hub, aero)
+        if n_inflow:
+            full = np.zeros(arrays.shape[:3] + (8 + n_inflow, 8 + n_inflow))
+            full[:, :, :, :8, :8] = arrays
+            arrays = full
+            coupling = trim_module.coefficients("inflow_in_air", blade, hub, aero)
+            extra = np.zeros(coupling.shape[:1] + (3,) + coupling.shape[2:])
+            extra[:, 1:] = coupling
+            add(k, "inflow_in_air", local(extra))
+        add(k, "blade_in_air", local(arrays))
+    if n_inflow:
+        mass, damping = inflow_module.own_terms(aero, np.ones(1), np.ones(1))
+        shape = out[0][2].shape[1:]
+        own_mass, own_damping = np.zeros(shape), np.zeros(shape)
+        first = len(body.dofs)
+        for i in range(n_inflow):
+            own_mass[0, 0, first + i, first + i] = mass[i] / system.n_blades
+            own_damping[1, 0, first + i, first + i] = damping[i, 0] / system.n_blades
+        add(None, "own-mass", own_mass[None])
+        add(None, "own-damping", own_damping[None])
+    return out
