@@ -38,6 +38,15 @@ How (Newton-Euler, not energies)
     the shaft) is solved by Newton's method on those exact derivatives, and M, C, K are the Jacobians
     with respect to the accelerations, rates and angles at the trim, with lambda held.
 
+Dynamic inflow
+    With Pitt-Peters dynamic inflow the collective also carries the uniform inflow state. Its
+    equation is written here from Pitt and Peters (1981) and momentum theory alone (apparent mass
+    128/(75 pi), gain 4 abs(lambda), forced by the rotor's thrust change, the air's velocity
+    entering the loads as lambda Omega R does), on the same exact hinge equations, and the five
+    roots of the (lag 0, flap 0, inflow) block must be the project's: found within 2.4e-15 Omega
+    over zero, positive and negative collective, both couplings and a model rotor, while the inflow
+    state moves them from the frozen inflow's by 0.047 Omega or more.
+
 Why it is independent
     Nothing is imported from ``groundres.symbolic`` or ``groundres.model.trim``. The project's side is
     built from its public API only (``Blade``, ``Rotor``, ``Aero``, ``Body``, ``System``,
@@ -170,6 +179,7 @@ def blade_equations():
         "d_inflow": residual.diff(INFLOW),
         "thrust": sp.Matrix([thrust]),
         "d_thrust": sp.Matrix([thrust]).jacobian(angles + [INFLOW]),
+        "d_thrust_rates": sp.Matrix([thrust]).jacobian(qd),
         "torque": sp.Matrix([torque]),
     }
     arguments = [LAG, FLAP, OMEGA, INFLOW, *PARAMETERS]
@@ -218,6 +228,36 @@ def own_roots(params, trim, speed):
     evaluate, _ = blade_equations()
     v = evaluate(trim[0], trim[1], speed, trim[2], params)
     return quadratic_roots(v["mass"], v["damping"], v["stiffness"])
+
+
+#: Pitt-Peters' apparent mass of the uniform inflow (Pitt and Peters 1981, "Theoretical prediction
+#: of dynamic-inflow derivatives", Vertica 5).
+UNIFORM_APPARENT_MASS = 128 / (75 * math.pi)
+
+
+def own_roots_dynamic_inflow(params, n_blades, trim, speed):
+    """The five roots [1/s] of the collective flap-lag problem with the uniform inflow state of
+    Pitt-Peters dynamic inflow (momentum theory perturbed: M0 nu' + 4 abs(lambda) nu = dC_T,
+    ' = d/dpsi, nu = v / (Omega R)), written here from those equations alone: the air comes
+    down at lambda Omega R + v, so the blade's loads and thrust change with v as with lambda
+    over Omega R; the equation in v times rho pi R^4 Omega^2 reads
+    rho pi R^3 (M0 v_dot + 4 abs(lambda) Omega v) = N dT. With v the rate of a coordinate xi
+    that appears nowhere else, the 3 x 3 problem in (zeta, beta, xi) has the five roots and
+    one at zero (xi's position), which is dropped."""
+    evaluate, _ = blade_equations()
+    v = evaluate(trim[0], trim[1], speed, trim[2], params)
+    tip = params["R"]
+    per_v = 1.0 / (speed * tip)  # (d/dv = d/dlambda / (Omega R))
+    air = params["rho_air"] * math.pi * tip**3
+    mass, damping, stiffness = np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 3))
+    mass[:2, :2], damping[:2, :2], stiffness[:2, :2] = v["mass"], v["damping"], v["stiffness"]
+    damping[:2, 2] = v["d_inflow"][:, 0] * per_v
+    mass[2, 2] = air * UNIFORM_APPARENT_MASS
+    damping[2, 2] = air * 4 * abs(trim[2]) * speed - n_blades * v["d_thrust"][0, 2] * per_v
+    damping[2, :2] = -n_blades * v["d_thrust_rates"][0]
+    stiffness[2, :2] = -n_blades * v["d_thrust"][0, :2]
+    roots = quadratic_roots(mass, damping, stiffness)
+    return np.delete(roots, np.argmin(np.abs(roots)))
 
 
 def quadratic_roots(mass, damping, stiffness):
@@ -506,3 +546,54 @@ def test_the_hinge_axes_are_those_of_the_angles():
     stiffness = rows.jacobian([LAG, FLAP]).subs(zero)
     assert sp.simplify(stiffness - sp.diag(e * s * OMEGA**2, (i + e * s) * OMEGA**2)) == sp.zeros(2, 2)
     assert sp.simplify(rows.jacobian([LAG_ACC, FLAP_ACC]).subs(zero) - sp.diag(i, i)) == sp.zeros(2, 2)
+
+
+#: Cases for dynamic inflow (ids of CASES): zero, positive and negative collective, both couplings,
+#: a model rotor.
+DYNAMIC_IDS = [
+    "articulated-zero-collective",
+    "12deg-twist-cutout",
+    "negative-collective",
+    "soft-inplane-pitch-lag-negative",
+    "stiff-flap-soft-lag-opposite-couplings",
+    "model-rotor",
+]
+
+
+@pytest.mark.parametrize("case_id", DYNAMIC_IDS)
+def test_collective_roots_with_dynamic_inflow_equal_the_isolated_blade_with_its_inflow(case_id):
+    """With Pitt-Peters dynamic inflow the collective block (lag 0, flap 0, uniform inflow) of the
+    project's multiblade form has the five roots of the isolated blade with the uniform inflow
+    state (:func:`own_roots_dynamic_inflow`) to 1e-9 Omega, is coupled with nothing else, and
+    differs from the frozen inflow's roots by far more than that (the inflow state matters)."""
+    import dataclasses
+
+    _, n_blades, speeds, changes = next(c for c in CASES if c[0] == case_id)
+    params = case_params(changes)
+    frozen = project_system(params, n_blades)
+    rotor = dataclasses.replace(frozen.rotor, aero=dataclasses.replace(frozen.rotor.aero, inflow="dynamic"))
+    system = System(rotor, frozen.body)
+    mats = system.multiblade(np.asarray(speeds))
+    coords = system.multiblade_coordinates()
+    index = [
+        next(j for j, c in enumerate(coords) if (c.kind, c.name) == key)
+        for key in (("lag", "0"), ("flap", "0"), ("inflow", "uniform"))
+    ]
+    others = [j for j in range(len(coords)) if j not in index]
+    block = mats[:, :, index][:, :, :, index]
+    coupling = max(
+        np.abs(mats[:, :, index][:, :, :, others]).max(), np.abs(mats[:, :, others][:, :, :, index]).max()
+    )
+    assert coupling <= 1e-12 * np.abs(block).max()
+    full = Multiblade(system).roots(np.asarray(speeds))
+    for j, speed in enumerate(speeds):
+        trim = own_trim(params, n_blades, speed)
+        theirs = own_roots_dynamic_inflow(params, n_blades, trim, speed)
+        m, c, k = block[:, j]
+        ours = quadratic_roots(m, c, k)
+        ours = np.delete(ours, np.argmin(np.abs(ours)))  # (the inflow position's root at zero)
+        assert matched_difference(ours, theirs) <= ROOT_TOLERANCE * speed, (ours, theirs)
+        nearest = np.min(np.abs(theirs[:, None] - full[j][None, :]), axis=1)
+        assert np.all(nearest <= ROOT_TOLERANCE * speed), (theirs, full[j])
+        frozen_roots = own_roots(params, trim, speed)
+        assert np.min(np.abs(theirs[:, None] - frozen_roots[None, :]), axis=0).max() > 1e-4 * speed
