@@ -66,7 +66,7 @@ def command(case, latex, form):
     for title, mat in zip(("mass", "damping", "stiffness"), mats):
         click.echo(f"\n{title} matrix:")
         click.echo(show(mat))
-    _numeric_parts(the_case, show)
+    _numeric_parts(the_case, show, form)
 
 
 def _not_identical_note(case) -> str:
@@ -99,9 +99,10 @@ def _not_identical_note(case) -> str:
     )
 
 
-def _numeric_parts(case, show) -> None:
+def _numeric_parts(case, show, form: str) -> None:
     """What the symbolic matrices above leave out, in numbers: a rigid body's own matrices
-    (in place of the diagonal M_, J_, K_, C_) and the damper rods' (added on the blades)."""
+    (in place of the diagonal M_, J_, K_, C_), the damper rods' (added on the blades), and in
+    air the whole equations about the hover trim at one speed."""
     import numpy as np
     import sympy as sp
 
@@ -132,3 +133,39 @@ def _numeric_parts(case, show) -> None:
         for title, mat in zip(("damping", "stiffness"), system.rod_matrices):
             click.echo(f"\nrod {title} matrix:")
             click.echo(matrix(mat[system.n_body :, system.n_body :]))
+    if case.rotor.aero is not None:
+        _in_air(case, matrix, form)
+
+
+def _in_air(case, matrix, form: str) -> None:
+    """The equations of a rotor in air, in numbers (SI) at the reference speed (else the sweep's
+    middle): the symbols above are the structure's about zero, in vacuum."""
+    import numpy as np
+
+    from ..model.system import System
+    from ..model.units import fmt_speed
+
+    sweep = case.sweep
+    speeds = sweep.speeds
+    speed = sweep.reference if sweep.reference else float(speeds[len(speeds) // 2])
+    system = System(case.rotor, case.body)
+    if form == "multiblade":
+        mats, coords = system.multiblade(np.array([speed]))[:, 0], system.multiblade_coordinates()
+        what = "multiblade"
+    else:
+        mats, coords = system.matrices(np.array([speed]), 0.0)[:, 0], system.coordinates
+        what = "blade coordinates, blade 1 at azimuth 0, of all blades together"
+    inflow = (
+        "\n#   and three Pitt-Peters inflow states (inflow_*: the air they carry down [m]; rates m/s)"
+        if system.inflow_states
+        else ""
+    )
+    click.echo(
+        "\n# IN AIR: the symbols above are the structure's equations about zero, in vacuum. The rotor\n"
+        f"#   in air is linearised about its hover trim (coning, trim lag) with strip-theory loads{inflow};\n"
+        f"#   its whole equations at {fmt_speed(speed, sweep)} ({what}), SI, on\n"
+        f"#   q = [{', '.join(c.symbol for c in coords)}]"
+    )
+    for title, mat in zip(("mass", "damping", "stiffness"), mats):
+        click.echo(f"\nin-air {title} matrix:")
+        click.echo(matrix(mat))
