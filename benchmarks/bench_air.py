@@ -92,7 +92,7 @@ def main() -> None:
         vacuum, air = paired(load_case(name), options.repeats)
         print(f"{name:40s} {vacuum:11.3f} {air:9.3f} {air / vacuum:7.2f}")
     print(f"\n{'the same work':40s} {'vacuum':>11s} {'air':>9s} {'ratio':>7s}")
-    for name in EIGEN + ["model-rotor-hover-9deg-dynamic-inflow"]:
+    for name in EIGEN + ["model-rotor-hover-9deg-inflow"]:
         work = same_work(load_case(name), options.repeats)
         for k, what in enumerate(("sweep [s]", "new speed [ms]")):
             v, a = work["vacuum"][k], work["air"][k]

@@ -39,9 +39,13 @@ def test_compiled_and_numpy_kernels_agree_on_every_shipped_case(name):
     system, speeds = shipped_system(name)
     angle = exponents.symmetry(system).angle
     moving = speeds[speeds > 0]
+    # (in air each speed on the equations frozen at its own trim, as the analysis does: two
+    # speeds, each with its own node grids, check the same kernel as the vacuum's five)
+    count = 2 if system.rotor.aero else 5
+    moving = moving[np.unique(np.linspace(0, len(moving) - 1, 4 * count).astype(int))]
     moving = moving[transition.rates_per_radian(system, moving) * angle / 48 <= 2.0]
-    w = moving[np.linspace(0, len(moving) - 1, 5).astype(int)]
-    # (in air each speed on the equations frozen at its own trim, as the analysis does)
+    assert len(moving), "no speed the fixed grid resolves"
+    w = moving[np.linspace(0, len(moving) - 1, count).astype(int)]
     batches = (
         [(system.frozen(x), w[i : i + 1]) for i, x in enumerate(w)] if system.rotor.aero else [(system, w)]
     )
