@@ -282,3 +282,94 @@ def test_the_form_from_monomials_equals_the_assembled_one(inflow, blades, dofs):
     got, want = form(speeds), transform(speeds)
     scale = np.abs(want).max(axis=(2, 3), keepdims=True)
     assert (np.abs(got - want) <= 1e-13 * scale).all(), np.abs(got - want).max()
+
+
+def test_labels_agree_between_methods_from_rest_with_dynamic_inflow():
+    """A sweep from rest: the uniform inflow's one root is chosen at each speed by content, so
+    the eigen and the Floquet analyses name every root alike, at rest too (where a cyclic
+    pair's regressive and progressive halves are a matter of convention: their two
+    frequencies are compared as a pair there)."""
+    from groundres.analysis import analyze
+
+    data = tomllib.loads(CASE)
+    data["sweep"].update(start=0.0, points=8)
+    data["aero"] = {"lift_slope": 5.7, "chord": 0.35, "tip_radius": 5.0, "air_density": 1.225}
+    data["aero"].update(collective=8.0, inflow="dynamic")
+    case = parse_case(data)
+    eigen, floquet = analyze(case), analyze(case, method="floquet")
+    assert eigen.modes.labels == floquet.modes.labels
+    scale = np.abs(eigen.modes.eigenvalue).max()
+    np.testing.assert_allclose(floquet.modes.real_part, eigen.modes.real_part, rtol=0, atol=1e-8 * scale)
+    ours, theirs = floquet.modes.frequency_nonrotating, eigen.modes.frequency_nonrotating
+    np.testing.assert_allclose(ours[1:], theirs[1:], rtol=0, atol=1e-8 * scale)
+    labels = eigen.modes.labels
+    for j, label in enumerate(labels):
+        if label.startswith("regressive"):
+            pair = [j, labels.index(label.replace("regressive", "progressive"))]
+            np.testing.assert_allclose(np.sort(ours[0, pair]), np.sort(theirs[0, pair]), atol=1e-8 * scale)
+        elif not label.startswith("progressive"):
+            assert abs(ours[0, j] - theirs[0, j]) <= 1e-8 * scale, label
+
+
+def test_rotating_axes_see_the_inflow_pair_from_nonrotating_axes():
+    """Dissimilar blades (one lag damper failed) on a body that translates, with dynamic inflow:
+    rotating axes (the inflow pair turned as velocities, then seen from nonrotating axes) give
+    the Floquet analysis' labels, real parts and nonrotating frequencies."""
+    from groundres.analysis import analyze
+
+    data = tomllib.loads(CASE)
+    data["body"] = {
+        "dofs": ["x", "y"],
+        "mass_x": 2000.0,
+        "mass_y": 2000.0,
+        "stiffness_x": 1e6,
+        "stiffness_y": 1e6,
+        "damping_x": 4e3,
+        "damping_y": 4e3,
+        "hub_height": 1.2,
+    }
+    data["rotor"].update(lag_damping=3000.0, blade=[{"index": 1, "lag_damping": 0.0}])
+    data["sweep"].update(points=6)
+    data["aero"] = {"lift_slope": 5.7, "chord": 0.35, "tip_radius": 5.0, "air_density": 1.225}
+    data["aero"].update(collective=8.0, inflow="dynamic")
+    case = parse_case(data)
+    rotating, floquet = analyze(case), analyze(case, method="floquet")
+    assert rotating.method.value == "rotating-eigen"
+    assert rotating.modes.labels == floquet.modes.labels
+    scale = np.abs(rotating.modes.eigenvalue).max()
+    for what in ("real_part", "frequency_nonrotating"):
+        np.testing.assert_allclose(
+            getattr(floquet.modes, what), getattr(rotating.modes, what), rtol=0, atol=1e-7 * scale
+        )
+
+
+def test_roots_asked_at_rest_first_do_not_fix_the_coupling_blocks():
+    """The multiblade solver finds its coupling blocks once; asked at rest first (where the
+    couplings that grow with the speed vanish) it keeps none, so later speeds are right."""
+    from groundres.solve.solvers import Multiblade
+
+    data = tomllib.loads(CASE)
+    data["aero"] = {"lift_slope": 5.7, "chord": 0.35, "tip_radius": 5.0, "air_density": 1.225}
+    data["aero"].update(collective=8.0, inflow="dynamic")
+    case = parse_case(data)
+    system = System.in_mass_unit(case.rotor, case.body)
+    first_at_rest = Multiblade(system)
+    first_at_rest.roots(np.zeros(1))
+    speeds = case.sweep.speeds[[3, 9]]
+    fresh = np.sort_complex(Multiblade(system).roots(speeds))
+    later = np.sort_complex(first_at_rest.roots(speeds))
+    np.testing.assert_allclose(later, fresh, rtol=0, atol=1e-9 * np.abs(fresh).max())
+
+
+def test_simulate_takes_inflow_rates_not_positions():
+    from groundres.analysis import simulate
+    from groundres.errors import ParameterError
+
+    data = tomllib.loads(CASE)
+    data["aero"] = {"lift_slope": 5.7, "chord": 0.35, "tip_radius": 5.0, "air_density": 1.225}
+    data["aero"].update(collective=8.0, inflow="dynamic")
+    case = parse_case(data)
+    with pytest.raises(ParameterError, match="inflow_uniform_rate"):
+        simulate(case, 20.0, initial={"inflow_uniform": 0.1})
+    sim = simulate(case, 20.0, duration=2.0, initial={"inflow_forward_rate": 0.1, "lag1": 0.01})
+    assert np.isfinite(sim.growth_rate())

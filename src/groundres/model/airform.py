@@ -138,27 +138,17 @@ def _sources(system) -> list:
 
     n_inflow = len(system.inflow_states)
     blades = [None] if rotor.blades_alike else list(range(system.n_blades))
+    hub = trim_module.hub_of(body)
     for k in blades:
         blade = rotor.blades[0 if k is None else k]
-        hub = trim_module.hub_of(body)
         arrays = trim_module.coefficients("blade_in_air", blade, hub, aero)
         if n_inflow:
-            full = np.zeros(arrays.shape[:3] + (8 + n_inflow, 8 + n_inflow))
-            full[:, :, :, :8, :8] = arrays
-            arrays = full
+            arrays = inflow_module.padded(arrays, 3)
             coupling = trim_module.coefficients("inflow_in_air", blade, hub, aero)
-            extra = np.zeros(coupling.shape[:1] + (3,) + coupling.shape[2:])
-            extra[:, 1:] = coupling
-            add(k, "inflow_in_air", local(extra))
+            add(k, "inflow_in_air", local(np.concatenate([np.zeros_like(coupling[:, :1]), coupling], 1)))
         add(k, "blade_in_air", local(arrays))
     if n_inflow:
-        mass, damping = inflow_module.own_terms(aero, np.ones(1), np.ones(1))
-        shape = out[0][2].shape[1:]
-        own_mass, own_damping = np.zeros(shape), np.zeros(shape)
-        first = len(body.dofs)
-        for i in range(n_inflow):
-            own_mass[0, 0, first + i, first + i] = mass[i] / system.n_blades
-            own_damping[1, 0, first + i, first + i] = damping[i, 0] / system.n_blades
-        add(None, "own-mass", own_mass[None])
-        add(None, "own-damping", own_damping[None])
+        mass, damping = local(inflow_module.own_arrays(aero, system.n_blades))
+        add(None, "own-mass", mass[None])
+        add(None, "own-damping", damping[None])
     return out

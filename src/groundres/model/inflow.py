@@ -21,7 +21,7 @@ and likewise for the moments over R. The inflow states are the rates of
 coordinates that appear nowhere else (:attr:`groundres.model.system.System.integrals`),
 so that the equations keep their second-order form; the blades' share of the
 forcing and the loads the inflow puts on them are derived
-(:func:`groundres.symbolic.aero.derive_inflow_coupling`); the own terms above
+(:func:`groundres.symbolic.inflow.derive_inflow_coupling`); the own terms above
 are added here, a 1/N share with each blade.
 """
 
@@ -31,11 +31,11 @@ import math
 
 import numpy as np
 
-from ..symbolic.codegen import air_values
+from ..symbolic.codegen import INFLOW_STATES, air_values
 from . import trim as trim_module
 
-#: The inflow states, in order (the names of :data:`groundres.symbolic.aero.INFLOW_STATES`).
-STATES = ("uniform", "forward", "left")
+#: The inflow states, in order (:data:`groundres.symbolic.codegen.INFLOW_STATES`).
+STATES = INFLOW_STATES
 #: Apparent masses of the uniform and of the first-harmonic parts (Pitt and Peters 1981).
 APPARENT_MASS = (128.0 / (75.0 * math.pi), 16.0 / (45.0 * math.pi), 16.0 / (45.0 * math.pi))
 #: The inflow gains in hover over the trim inflow ratio: V L^-1 = diag(4, 1, 1) lambda.
@@ -47,13 +47,26 @@ def states(aero) -> tuple:
     return STATES if aero is not None and aero.inflow == "dynamic" else ()
 
 
-def own_terms(aero, speeds, inflow_ratio) -> tuple:
-    """The inflow's own apparent mass (3,) [kg] and damping (3, n_s) [kg/s] (air density
-    in the system's mass unit)."""
-    scale = aero.air_density * math.pi * aero.tip_radius**3
-    mass = scale * np.array(APPARENT_MASS)
-    damping = scale * np.array(GAIN)[:, None] * (np.abs(inflow_ratio) * np.asarray(speeds))[None]
-    return mass, damping
+def own_arrays(aero, n_blades: int) -> np.ndarray:
+    """The inflow's own terms as one blade's share, (2, 3, 5, 11, 11): its apparent mass
+    [kg], and its damping per unit ``abs(lambda) Omega`` [kg], each on the inflow states'
+    rows and columns (LOCAL_DOFS, then STATES), a 1/N share with each blade (the rows of
+    the nonrotating coordinates are summed over the blades). Air density in the system's
+    mass unit."""
+    scale = aero.air_density * math.pi * aero.tip_radius**3 / n_blades
+    out = np.zeros((2, 3, 5, 8 + len(STATES), 8 + len(STATES)))
+    for i, (mass, gain) in enumerate(zip(APPARENT_MASS, GAIN)):
+        out[0, 0, 0, 8 + i, 8 + i] = scale * mass
+        out[1, 1, 0, 8 + i, 8 + i] = scale * gain
+    return out
+
+
+def padded(arrays, axis: int) -> np.ndarray:
+    """A blade's arrays in air with room for the inflow states: the two local axes from
+    ``axis`` on grown from 8 to 11 (zero where the inflow states are)."""
+    widths = [(0, 0)] * arrays.ndim
+    widths[axis] = widths[axis + 1] = (0, len(STATES))
+    return np.pad(arrays, widths)
 
 
 def with_inflow(arrays, blade, body, aero, state, n_blades: int) -> np.ndarray:
@@ -61,14 +74,8 @@ def with_inflow(arrays, blade, body, aero, state, n_blades: int) -> np.ndarray:
 
     ``state`` is the trim state (speeds, inflow ratio, coning, trim lag) at every speed.
     """
-    k = len(STATES)
-    n = arrays.shape[2]
-    out = np.zeros(arrays.shape[:2] + (n + k, n + k) + arrays.shape[4:])
-    out[:, :, :n, :n] = arrays
+    out = padded(arrays, 2)
     coefficients = trim_module.coefficients("inflow_in_air", blade, trim_module.hub_of(body), aero)
     out[1:] += air_values("inflow_in_air", coefficients, *state)
-    mass, damping = own_terms(aero, state[0], state[1])
-    for i in range(k):
-        out[0, 0, n + i, n + i] += mass[i] / n_blades
-        out[1, 0, n + i, n + i] += damping[i] / n_blades
-    return out
+    mass, damping = own_arrays(aero, n_blades)
+    return out + mass[..., None] + damping[..., None] * (np.abs(state[1]) * state[0])

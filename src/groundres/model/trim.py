@@ -26,11 +26,10 @@ from .speedtable import SpeedTable
 
 #: Most Newton steps; the trim converges in a handful (quadratically).
 MAX_STEPS = 60
-#: Converged where no step moves an angle or lambda by more than this [rad, -].
-TOLERANCE = 1e-14
-#: A step below this [rad, -] is the last: Newton's method converges quadratically, so the
-#: step after it would be of its square (below TOLERANCE), and the loads at the trim are those
-#: of the last evaluation moved by the step along their derivatives (to its square, too).
+#: A step below this [rad, -] (relative to 1 + the largest unknown) is the last: Newton's
+#: method converges quadratically, so the step after it would be of its square (1e-16, round-off),
+#: and the loads at the trim are those of the last evaluation moved by the step along their
+#: derivatives (to its square, too).
 LAST_STEP = 1e-8
 #: Speeds trimmed first, from zero, where many are asked with no guess: the rest start from them.
 COARSE = 24

@@ -239,6 +239,35 @@ def _merge_blocks(blocks, block, owned):
     return merged, new_index[block]
 
 
+def _at(x, cols, axis=1):
+    """x's entries (n_s, ...) of a block's roots ``cols`` (n_s, m) along ``axis``, speed by speed."""
+    shape = [1] * x.ndim
+    shape[0], shape[axis] = len(cols), cols.shape[1]
+    return np.take_along_axis(x, cols.reshape(shape), axis)
+
+
+def _single(cols, key, fill):
+    """The root of a one-root label (a first-order state's) at every speed, and the block's other
+    roots: (cols without it (n_s, m - 1), its column (n_s,)).
+
+    ``cols`` (n_s, m) are the block's columns; ``key`` the roots' pairing keys and ``fill`` the
+    label's share of each root (both (n_s, n_e)). At each speed the label takes the real root
+    (real key) it fills most; the others keep their places, the branch it usually takes
+    standing in where it takes another (so that the pairing of real roots carried from
+    speed to speed stays with the same branches).
+    """
+    n_s = len(cols)
+    k_b, f_b = np.take_along_axis(key, cols, 1), np.take_along_axis(fill, cols, 1)
+    real = np.abs(k_b.imag) <= ZERO * np.maximum(np.abs(k_b), 1e-300)
+    f_b = np.where(real | ~real.any(-1, keepdims=True), f_b, -1.0)
+    pick = np.argmax(f_b, axis=-1)
+    usual = int(np.argmax(np.bincount(pick, minlength=cols.shape[1])))
+    rest = np.delete(cols, usual, axis=1).copy()
+    moved = np.flatnonzero(pick != usual)
+    rest[moved, pick[moved] - (pick[moved] > usual)] = cols[moved, usual]
+    return rest, cols[np.arange(n_s), pick]
+
+
 def _window(array, centre, h, axis_len):
     """array[..., centre + k] for k = -h..h along the last axis (zero outside)."""
     k = centre[..., None] + np.arange(-h, h + 1)
@@ -315,33 +344,34 @@ def identify(
         singles = [i for i in mine if owner[i][0].roots == 1]
         if sum(owner[i][0].roots for i in mine) != len(cols):
             raise RuntimeError(f"block of {len(members)} coordinates has labels {[labels[i] for i in mine]}")
-        for i in singles:  # (a first-order state's one real root: the branch it fills most)
-            pick = cols[np.argmax(frac[:, cols, i].sum(0))]
+        cols = np.broadcast_to(cols, (n_s, len(cols)))  # (per speed: a single's root may move)
+        for i in singles:
+            cols, pick = _single(cols, key, frac[:, :, i])
             rep[:, i] = other[:, i] = pick
-            cols = cols[cols != pick]
         mine = np.array([i for i in mine if i not in singles], int)
         if not len(mine):
             continue
-        frac_b = frac[:, cols][:, :, mine]
-        shapes = np.moveaxis(harmonics[:, :, :, cols] * np.sqrt(weights)[:, :, None, None], -1, 1)
-        shapes = shapes.reshape(n_s, len(cols), -1)  # weighted harmonics of each root
+
+        frac_b = _at(frac, cols)[:, :, mine]
+        shapes = np.moveaxis(_at(harmonics, cols, 3) * np.sqrt(weights)[:, :, None, None], -1, 1)
+        shapes = shapes.reshape(n_s, cols.shape[1], -1)  # weighted harmonics of each root
         carry = np.r_[False, speeds[:-1] > 0]
-        reps, others = pair_roots(
-            key[:, cols], frac_b, eigenvalue[:, cols].real, still[:, cols], shapes, carry
-        )
+        lam_b = _at(eigenvalue, cols)
+        reps, others = pair_roots(_at(key, cols), frac_b, lam_b.real, _at(still, cols), shapes, carry)
         rows = np.arange(n_s)[:, None]
         score = (frac_b[rows, reps] + frac_b[rows, others]) / 2
-        real = np.maximum(eigenvalue[:, cols][rows, reps].real, eigenvalue[:, cols][rows, others].real)
+        real = np.maximum(lam_b[rows, reps].real, lam_b[rows, others].real)
         # (real parts and Omega: the same for every method, unlike |lambda|)
         choice = _assign(score, real, threshold, np.abs(eigenvalue.real).max(-1) + speeds + 1e-300)
         for k, g in enumerate(groups):
             if g.kind in ("cyclic", "whirl") and g.coords[0] in members:
                 first = mine.tolist().index(offsets(groups)[k])
-                share = (still_group[:, cols, k][rows, reps] + still_group[:, cols, k][rows, others]) / 2
+                still_k = _at(still_group[:, :, k], cols)
+                share = (still_k[rows, reps] + still_k[rows, others]) / 2
                 _order_still(choice, real, share, first, first + 1)
         inverse = np.argsort(choice, axis=-1)  # mode holding each label
-        rep[:, mine] = cols[np.take_along_axis(reps, inverse, -1)]
-        other[:, mine] = cols[np.take_along_axis(others, inverse, -1)]
+        rep[:, mine] = np.take_along_axis(cols, np.take_along_axis(reps, inverse, -1), 1)
+        other[:, mine] = np.take_along_axis(cols, np.take_along_axis(others, inverse, -1), 1)
     rows = np.arange(n_s)[:, None]
     lam, lam_other = eigenvalue[rows, rep], eigenvalue[rows, other]
 

@@ -44,6 +44,8 @@ def state_matrix(mass, damping, stiffness, integrals=()):
     a[..., :n, n:] = np.eye(n)
     a[..., n:, :] = -rhs
     if len(integrals):
+        if np.asarray(stiffness)[..., np.asarray(integrals, int)].any():
+            raise ValueError("an integral coordinate has stiffness: its position is a state")
         keep = kept_states(n, integrals)
         a = a[..., keep[:, None], keep]
     return a
@@ -145,13 +147,11 @@ def block_eig(m, c, k, vectors=True, integrals=()):
     Returns eigenvalues (..., 2n - k) and, if asked, vectors (..., n, 2n - k).
     """
     n = m.shape[-1]
-    if len(integrals):
-        pass
-    elif n == 1:
+    if n == 1 and not len(integrals):
         s1, s2 = _quadratic_roots(m[..., 0, 0] + 0j, c[..., 0, 0] + 0j, k[..., 0, 0] + 0j)
         w = np.stack([s1, s2], -1)
         return (w, np.ones(w.shape[:-1] + (1, 2), complex)) if vectors else w
-    if n == 2 and _whirl_symmetric(m, c, k):
+    if n == 2 and not len(integrals) and _whirl_symmetric(m, c, k):
         coeff = [x[..., 0, 0] - 1j * x[..., 0, 1] for x in (m, c, k)]
         s1, s2 = _quadratic_roots(*coeff)
         w = np.stack([s1, s2, s1.conj(), s2.conj()], -1)

@@ -204,7 +204,7 @@ def initial_text(values: dict) -> str:
 
     def unit(key):
         base, rate = (key[:-5], "/s") if key.endswith("_rate") else (key, "")
-        return ("m" if base in TRANSLATIONS else "rad") + rate
+        return ("m" if base in TRANSLATIONS or base.startswith("inflow_") else "rad") + rate
 
     return ", ".join(f"{k} = {v:g} {unit(k)}" for k, v in values.items())
 
@@ -245,6 +245,13 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
                 "linear, so the disturbance's size scales the whole motion and leaves its growth rate "
                 "unchanged (the model holds for small motions, centimetres and a few degrees); beyond "
                 "the bound the motion times the equations' coefficients leaves double precision",
+            )
+        if not rate and names.index(base) in system.integrals:
+            raise ParameterError(
+                "initial",
+                key,
+                "an inflow state's position is no state (nothing moves by it); give its rate, the "
+                f"inflow velocity [m/s]: {key}_rate",
             )
         (v0 if rate else q0)[names.index(base)] = value
     if not (q0.any() or v0.any()):

@@ -134,7 +134,7 @@ class _TimeInvariant(Solver):
         ``harmonics`` (:meth:`groundres.model.system.System.matrices`)."""
         raise NotImplementedError
 
-    def _blocks(self, mats):
+    def _blocks(self, mats, speeds):
         return modal.coupling_blocks(*mats)
 
     def _fit(self, band: float):
@@ -212,17 +212,19 @@ class _TimeInvariant(Solver):
 
     def _scan_roots(self, speeds):
         mats = self._fitted(speeds)
-        return modal.block_eigenvalues(*mats, self._blocks(mats), split=True, integrals=self.system.integrals)
+        return modal.block_eigenvalues(
+            *mats, self._blocks(mats, speeds), split=True, integrals=self.system.integrals
+        )
 
     def roots(self, speeds):
         # (the fitted matrices: a search's single speeds cost an array product, not an assembly)
         mats = self._fitted(np.atleast_1d(np.asarray(speeds, dtype=float)))
-        return modal.block_eigenvalues(*mats, self._blocks(mats), integrals=self.system.integrals)
+        return modal.block_eigenvalues(*mats, self._blocks(mats, speeds), integrals=self.system.integrals)
 
     def sweep(self, speeds, progress=None):
         """Eigenvalues and eigenvectors of the form at ``speeds``, tracked along branches."""
         mats = self.form(speeds)
-        solution = modal.track(modal.solve(*mats, self._blocks(mats), self.system.integrals), speeds)
+        solution = modal.track(modal.solve(*mats, self._blocks(mats, speeds), self.system.integrals), speeds)
         if progress is not None:
             progress(len(speeds), len(speeds))
         return solution
@@ -252,10 +254,15 @@ class Multiblade(_TimeInvariant):
         super().__init__(system)
         self.blocks = None
 
-    def _blocks(self, mats):
-        if self.blocks is None:
-            self.blocks = modal.coupling_blocks(*mats)
-        return self.blocks
+    def _blocks(self, mats, speeds):
+        """The coupling blocks, found once (kept only when found at a turning rotor: at rest the
+        couplings that grow with the speed vanish)."""
+        if self.blocks is not None:
+            return self.blocks
+        blocks = modal.coupling_blocks(*mats)
+        if np.any(np.asarray(speeds) > 0):
+            self.blocks = blocks
+        return blocks
 
     def transform(self, speeds, harmonics=None):
         return self.system.multiblade(speeds, harmonics=harmonics)
@@ -283,14 +290,25 @@ class Rotating(_TimeInvariant):
         phase = 2 * np.pi * np.arange(self.samples) / self.samples
         q = np.broadcast_to(raw.vector, (self.samples,) + raw.vector.shape).copy()
         index = {d: i for i, d in enumerate(self.system.body.dofs)}
-        for a, b in ROTATING_PAIRS:
-            if a in index:
-                ia, ib = index[a], index[b]
-                c, s = np.cos(phase)[:, None, None], np.sin(phase)[:, None, None]
-                xa, xb = raw.vector[None, :, ia, :], raw.vector[None, :, ib, :]
-                q[:, :, ia, :] = c * xa - s * xb
-                q[:, :, ib, :] = s * xa + c * xb
+        pairs = [(index[a], index[b], raw.vector) for a, b in ROTATING_PAIRS if a in index]
+        integrals = self.system.integrals
+        if len(integrals):  # (the inflow pair turns as velocities: its rates, then their integrals)
+            pairs.append((integrals[1], integrals[2], raw.vector * raw.eigenvalue[:, None, :]))
+        c, s = np.cos(phase)[:, None, None], np.sin(phase)[:, None, None]
+        for ia, ib, x in pairs:
+            xa, xb = x[None, :, ia, :], x[None, :, ib, :]
+            q[:, :, ia, :] = c * xa - s * xb
+            q[:, :, ib, :] = s * xa + c * xb
         harmonics, orders = self.system.nonrotating_harmonics(q, self.samples // 2 - 1)
+        if len(integrals):
+            moving = (
+                raw.eigenvalue[:, None, :] + 1j * orders[None, :, None] * np.asarray(speeds)[:, None, None]
+            )
+            pair = list(integrals[1:])
+            rates = harmonics[:, pair]
+            harmonics[:, pair] = np.where(
+                moving[:, None] != 0, rates / np.where(moving == 0, 1, moving)[:, None], rates
+            )
         one = np.zeros(raw.vector.shape[-1], int)  # labels are in nonrotating coordinates: one block
         return modal.Eigensolution(
             raw.eigenvalue, raw.vector, one, [np.arange(raw.vector.shape[1])], harmonics, orders

@@ -65,6 +65,10 @@ SYMPY_MODULE = "generated_sympy.py"
 #: The blade in air and its trim, NumPy only (long: imported only for a case in air).
 AIR_MODULE = "generated_air.py"
 AIR_FUNCTIONS = ("blade_in_air", "trim_in_air", "inflow_in_air")
+#: The inflow states of Pitt-Peters dynamic inflow (velocities down the shaft [m/s]): uniform,
+#: and the tip values of the parts growing forward and to the left (docs/theory.md); after
+#: LOCAL_DOFS among a blade's local coordinates in ``inflow_in_air``.
+INFLOW_STATES = ("uniform", "forward", "left")
 #: The trim state the functions in air take at every speed (in the order of the monomials' exponents);
 #: their other arguments are the rotor's, the body's and the air's, fixed over a sweep.
 AIR_STATE = (

@@ -28,11 +28,8 @@ from .aero import (
     _terms,
     _Trim,
 )
+from .codegen import INFLOW_STATES
 from .derive import blade_geometry
-
-#: The inflow states of Pitt-Peters dynamic inflow (velocities down the shaft [m/s]): uniform,
-#: and the tip values of the parts growing forward and to the left (docs/theory.md).
-INFLOW_STATES = ("uniform", "forward", "left")
 
 
 def _arms():
@@ -58,7 +55,7 @@ def derive_inflow_coupling() -> Terms:
     F . s`` and ``int (Y/R) F . s`` of its shaft-normal load at the deflected
     section positions, per unit change of each coordinate, rate and inflow
     state. The inflow's own apparent mass and damping are added numerically
-    (:mod:`groundres.model.system`).
+    (:mod:`groundres.model.inflow`).
     """
     trim = _Trim()
     n, k = len(LOCAL_DOFS), len(INFLOW_STATES)
