@@ -28,7 +28,6 @@ from .aero import (
     _terms,
     _Trim,
 )
-from .codegen import INFLOW_STATES
 from .derive import blade_geometry
 
 
@@ -44,7 +43,8 @@ def _arms():
 
 def derive_inflow_coupling() -> Terms:
     """What dynamic inflow adds to one blade's equations, as Terms of shape (2, 5, 11, 11):
-    [damping, stiffness] x HARMONICS x (LOCAL_DOFS + INFLOW_STATES)^2.
+    [damping, stiffness] x HARMONICS x (LOCAL_DOFS + the inflow states of
+    :data:`groundres.symbolic.codegen.INFLOW_STATES`)^2.
 
     The inflow states enter as velocities v_m (the rates of coordinates that appear
     nowhere else): the air at the section comes down the shaft at ``lambda Omega R
@@ -58,10 +58,10 @@ def derive_inflow_coupling() -> Terms:
     (:mod:`groundres.model.inflow`).
     """
     trim = _Trim()
-    n, k = len(LOCAL_DOFS), len(INFLOW_STATES)
     shaft = _kinematics()[3]
     arms = _arms()
-    arm0 = [_RING.one] + [_at_trim(x) for x in arms]
+    arm0 = [_RING.one] + [_at_trim(x) for x in arms]  # (the weights of the inflow states)
+    n, k = len(LOCAL_DOFS), len(arm0)
     arm_q = [[_RING.zero] * n] + [[_at_trim(x.diff(q)) for q in COORDS] for x in arms]
     ds_q = [_at_trim(shaft.diff(q)) for q in COORDS]
     load = _dot(trim.force, trim.shaft)
