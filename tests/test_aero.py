@@ -77,37 +77,43 @@ class NumericBlade:
         v = self.speed * d(lambda e: self.point(q, self.psi + e, radius))
         return v + d(lambda e: self.point(q + e * qd, self.psi, radius))
 
-    def forces(self, q, qd):
-        """The generalised forces on the eight coordinates."""
+    def section_force(self, q, qd, radius, inflow):
+        """The section's force (3,) per unit span, the air coming down the shaft at ``inflow`` [m/s]."""
         p = self.p
-        q = np.asarray(q, dtype=complex)
-        qd = np.asarray(qd, dtype=complex)
         body, axes = self.frames(q, self.psi)
-        shaft = body[:, 2]
         lead, normal = axes[:, 1], axes[:, 2]
         k_lift = p["air_density"] * p["chord"] * p["lift_slope"] / 2
         k_drag = p["air_density"] * p["chord"] * p["drag_coefficient"] / 2
-        out = np.zeros(8, dtype=complex)
-        for radius, weight in zip(self.radii, self.weights):
-            w = self.velocity(q, qd, radius) + p["inflow_ratio"] * self.speed * p["tip_radius"] * shaft
-            u_t, u_p = w @ lead, w @ normal
-            theta = (
-                p["collective"]
-                + p["twist"] * radius / p["tip_radius"]
-                - p["pitch_flap"] * q[7]
-                - p["pitch_lag"] * q[6]
-            )
-            f_n = k_lift * (u_t**2 * theta - u_p * u_t)
-            f_x = k_lift * (u_p * u_t * theta - u_p**2) + k_drag * u_t**2
-            force = f_n * normal - f_x * lead
-            for i in range(8):  # the partial velocity dP/dq_i
-                e = np.zeros(8)
-                e[i] = 1.0
-                partial = (
-                    self.point(q + 1e-6 * e, self.psi, radius) - self.point(q - 1e-6 * e, self.psi, radius)
-                ) / 2e-6
-                out[i] += weight * (force @ partial)
-        return out
+        w = self.velocity(q, qd, radius) + inflow * body[:, 2]
+        u_t, u_p = w @ lead, w @ normal
+        theta = (
+            p["collective"]
+            + p["twist"] * radius / p["tip_radius"]
+            - p["pitch_flap"] * q[7]
+            - p["pitch_lag"] * q[6]
+        )
+        f_n = k_lift * (u_t**2 * theta - u_p * u_t)
+        f_x = k_lift * (u_p * u_t * theta - u_p**2) + k_drag * u_t**2
+        return f_n * normal - f_x * lead
+
+    def partials(self, q, radius):
+        """The partial velocities dP/dq_i of the section (8, 3), by central differences."""
+        out = []
+        for i in range(8):
+            e = np.zeros(8)
+            e[i] = 1e-6
+            out.append((self.point(q + e, self.psi, radius) - self.point(q - e, self.psi, radius)) / 2e-6)
+        return np.array(out)
+
+    def forces(self, q, qd):
+        """The generalised forces on the eight coordinates."""
+        p = self.p
+        q, qd = np.asarray(q, dtype=complex), np.asarray(qd, dtype=complex)
+        inflow = p["inflow_ratio"] * self.speed * p["tip_radius"]
+        return sum(
+            weight * (self.partials(q, radius) @ self.section_force(q, qd, radius, inflow))
+            for radius, weight in zip(self.radii, self.weights)
+        )
 
     def linearised(self, trim):
         """(-dQ/dq, -dQ/dq') at the trim, by complex steps."""

@@ -50,30 +50,13 @@ class InflowBlade(NumericBlade):
         """Generalised forces on the eight coordinates, and the forcing (thrust, moments / R)."""
         p = self.p
         q, qd, v = (np.asarray(x, dtype=complex) for x in (q, qd, v))
-        body, axes = self.frames(q, self.psi)
-        shaft, lead, normal = body[:, 2], axes[:, 1], axes[:, 2]
-        k_lift = p["air_density"] * p["chord"] * p["lift_slope"] / 2
-        k_drag = p["air_density"] * p["chord"] * p["drag_coefficient"] / 2
+        shaft = self.frames(q, self.psi)[0][:, 2]
         forces, forcing = np.zeros(8, dtype=complex), np.zeros(3, dtype=complex)
         for radius, weight in zip(self.radii, self.weights):
             fwd, left = self.arms(q, radius)
             inflow = p["inflow_ratio"] * self.speed * p["tip_radius"] + v[0] + v[1] * fwd + v[2] * left
-            w = self.velocity(q, qd, radius) + inflow * shaft
-            u_t, u_p = w @ lead, w @ normal
-            theta = (
-                p["collective"]
-                + p["twist"] * radius / p["tip_radius"]
-                - p["pitch_flap"] * q[7]
-                - p["pitch_lag"] * q[6]
-            )
-            f_n = k_lift * (u_t**2 * theta - u_p * u_t)
-            f_x = k_lift * (u_p * u_t * theta - u_p**2) + k_drag * u_t**2
-            force = f_n * normal - f_x * lead
-            for i in range(8):
-                e = np.zeros(8)
-                e[i] = 1e-6
-                partial = (self.point(q + e, self.psi, radius) - self.point(q - e, self.psi, radius)) / 2e-6
-                forces[i] += weight * (force @ partial)
+            force = self.section_force(q, qd, radius, inflow)
+            forces += weight * (self.partials(q, radius) @ force)
             along = force @ shaft
             forcing += weight * np.array([along, fwd * along, left * along])
         return forces, forcing
