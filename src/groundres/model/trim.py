@@ -167,10 +167,9 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     beta, zeta, lam = np.zeros((n_s, k)), np.zeros((n_s, k)), np.zeros(n_s)
     if guess is not None and len(guess.rotor_speed):
         first = [which.index(j) for j in range(k)]  # (a blade of each kind)
-        lam = _interpolated(speeds, guess.rotor_speed, guess.inflow_ratio)
-        for j, blade in enumerate(first):
-            beta[:, j] = _interpolated(speeds, guess.rotor_speed, guess.coning[:, blade])
-            zeta[:, j] = _interpolated(speeds, guess.rotor_speed, guess.trim_lag[:, blade])
+        known = np.column_stack([guess.inflow_ratio, guess.coning[:, first], guess.trim_lag[:, first]])
+        found = _interpolated(speeds, guess.rotor_speed, known)
+        lam, beta, zeta = found[:, 0].copy(), found[:, 1 : 1 + k].copy(), found[:, 1 + k :].copy()
     spinning = speeds > 0
     area = math.pi * aero.tip_radius**2
     momentum = aero.air_density * area * (speeds * aero.tip_radius) ** 2  # T = momentum * C_T
@@ -250,20 +249,26 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
 
 
 def _interpolated(speeds, known, values) -> np.ndarray:
-    """``values`` at ``known`` speeds (sorted) interpolated to ``speeds`` through the three nearest
-    (a parabola: its error, of the third power of their spacing, leaves Newton's method one
-    step); linear with two, the one value with one; outside them, the nearest value."""
+    """``values`` (n_known, c) at ``known`` speeds (sorted) interpolated to ``speeds``, (n_s, c),
+    through the three nearest (a parabola: its error, of the third power of their spacing,
+    leaves Newton's method one step); linear with two, the one value with one; outside them,
+    the nearest value."""
+
+    def linear():
+        return np.stack([np.interp(speeds, known, v) for v in values.T], axis=1)
+
     if len(known) < 3:
-        return np.interp(speeds, known, values)
+        return linear()
     at = np.clip(np.searchsorted(known, speeds) - 1, 0, len(known) - 3)
-    x0, x1, x2 = (known[at + i] for i in range(3))
+    x0, x1, x2 = (known[at + i][:, None] for i in range(3))
     y0, y1, y2 = (values[at + i] for i in range(3))
+    w = speeds[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
         d01 = (y1 - y0) / (x1 - x0)
         d12 = (y2 - y1) / (x2 - x1)
-        out = y0 + (speeds - x0) * (d01 + (speeds - x1) * (d12 - d01) / (x2 - x0))
-    inside = np.isfinite(out) & (speeds >= known[0]) & (speeds <= known[-1])
-    return np.where(inside, out, np.interp(speeds, known, values))
+        out = y0 + (w - x0) * (d01 + (w - x1) * (d12 - d01) / (x2 - x0))
+    inside = np.isfinite(out).all(1) & (speeds >= known[0]) & (speeds <= known[-1])
+    return out if inside.all() else np.where(inside[:, None], out, linear())
 
 
 def _no_trim(speed: float, rotor) -> None:
