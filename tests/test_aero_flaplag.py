@@ -412,14 +412,13 @@ def project_system(params, n_blades):
     return System(rotor, body)
 
 
-def collective_block(system, speeds):
-    """The (lag 0, flap 0) block of the multiblade mass, damping, stiffness, and the largest coupling
-    of those two coordinates with the others relative to the block's own entries."""
+def collective_block(system, speeds, keys=(("lag", "0"), ("flap", "0"))):
+    """The block of the multiblade mass, damping, stiffness on the coordinates ``keys`` ((kind,
+    name) each: lag 0, flap 0 by default), and the largest coupling of those coordinates with
+    the others relative to the block's own entries."""
     mats = system.multiblade(np.asarray(speeds))
     coords = system.multiblade_coordinates()
-    index = [
-        next(j for j, c in enumerate(coords) if c.kind == kind and c.name == "0") for kind in ("lag", "flap")
-    ]
+    index = [next(j for j, c in enumerate(coords) if (c.kind, c.name) == key) for key in keys]
     others = [j for j in range(len(coords)) if j not in index]
     block = mats[:, :, index][:, :, :, index]
     coupling = np.concatenate(
@@ -573,18 +572,8 @@ def test_collective_roots_with_dynamic_inflow_equal_the_isolated_blade_with_its_
     frozen = project_system(params, n_blades)
     rotor = dataclasses.replace(frozen.rotor, aero=dataclasses.replace(frozen.rotor.aero, inflow="dynamic"))
     system = System(rotor, frozen.body)
-    mats = system.multiblade(np.asarray(speeds))
-    coords = system.multiblade_coordinates()
-    index = [
-        next(j for j, c in enumerate(coords) if (c.kind, c.name) == key)
-        for key in (("lag", "0"), ("flap", "0"), ("inflow", "uniform"))
-    ]
-    others = [j for j in range(len(coords)) if j not in index]
-    block = mats[:, :, index][:, :, :, index]
-    coupling = max(
-        np.abs(mats[:, :, index][:, :, :, others]).max(), np.abs(mats[:, :, others][:, :, :, index]).max()
-    )
-    assert coupling <= 1e-12 * np.abs(block).max()
+    block, coupling = collective_block(system, speeds, (("lag", "0"), ("flap", "0"), ("inflow", "uniform")))
+    assert coupling <= 1e-12
     full = Multiblade(system).roots(np.asarray(speeds))
     for j, speed in enumerate(speeds):
         trim = own_trim(params, n_blades, speed)

@@ -50,7 +50,7 @@ class AirForm:
 
     def __init__(self, system, transform):
         self.system, self.transform = system, transform
-        self.sources = _sources(system)  # [(blade or None, kind, arrays (K, 3, 5, nl, nl), which)]
+        self.sources = system.air_sources  # [(blade or None, kind, arrays (K, 3, 5, nl, nl), which)]
         self.bands = {}
 
     def _band(self, band: float):
@@ -82,19 +82,7 @@ class AirForm:
 
     def values(self, speeds) -> np.ndarray:
         """v_s at ``speeds`` (n_s, 1 + S): one for F_0, then every source's value."""
-        system = self.system
-        trim = system.trim(speeds)
-        columns = [np.ones((len(speeds), 1))]
-        for blade, kind, _, touch in self.sources:
-            k = 0 if blade is None else blade
-            if kind == "own-mass":
-                columns.append(np.ones((len(speeds), 1)))
-            elif kind == "own-damping":
-                columns.append((np.abs(trim.inflow_ratio) * speeds)[:, None])
-            else:
-                state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
-                columns.append(air_monomials(kind, *state)[:, touch])
-        return np.concatenate(columns, axis=1)
+        return np.concatenate([np.ones((len(speeds), 1)), source_values(self.system, speeds)], axis=1)
 
     def __call__(self, speeds):
         """Mass, damping and stiffness of the form at ``speeds`` [rad/s], (3, n_s, n, n)."""
@@ -117,7 +105,49 @@ class AirForm:
         return out.reshape(3, len(speeds), n, n)
 
 
-def _sources(system) -> list:
+def source_values(system, speeds) -> np.ndarray:
+    """The value of every source of ``system`` (:func:`sources`) at ``speeds``, (n_s, S): the
+    monomials of each blade's trim state, or the inflow's own 1 and ``abs(lambda) Omega``."""
+    trim = system.trim(speeds)
+    columns = []
+    for blade, kind, _, touch in system.air_sources:
+        k = 0 if blade is None else blade
+        if kind == "own-mass":
+            columns.append(np.ones((len(speeds), 1)))
+        elif kind == "own-damping":
+            columns.append((np.abs(trim.inflow_ratio) * speeds)[:, None])
+        else:
+            state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
+            columns.append(air_monomials(kind, *state)[:, touch])
+    return np.concatenate(columns, axis=1)
+
+
+def blade_arrays(system, speeds) -> np.ndarray:
+    """Every blade's harmonic arrays in air at ``speeds``, (n_s, N, 3, 5, nl, nl)
+    (:meth:`groundres.model.system.System.blade_harmonics`): the sources weighed by their
+    values, one product per blade (one for all where the blades are alike)."""
+    speeds = np.asarray(speeds, dtype=float).reshape(-1)
+    found = system.air_sources
+    values = source_values(system, speeds)
+    shape = found[0][2].shape[1:]
+    owners = sorted({-1 if blade is None else blade for blade, _, _, _ in found})
+    total = {b: np.zeros((len(speeds), int(np.prod(shape)))) for b in owners}
+    col = 0
+    for blade, _, arrays, _ in found:
+        count = len(arrays)
+        total[-1 if blade is None else blade] += values[:, col : col + count] @ arrays.reshape(count, -1)
+        col += count
+    common = total.pop(-1, None)
+    if not total:  # (every blade alike)
+        one = common.reshape((len(speeds),) + shape)
+        return np.broadcast_to(one[:, None], (len(speeds), system.n_blades) + shape)
+    own = np.stack([total[k] for k in range(system.n_blades)], axis=1)
+    if common is not None:  # (the inflow's own terms, on every blade)
+        own += common[:, None]
+    return own.reshape((len(speeds), system.n_blades) + shape)
+
+
+def sources(system) -> list:
     """The blades' arrays in air as sources: (blade, kind, arrays (K, 3, 5, nl, nl), which of the
     kind's monomials they are (K,)) with
     ``blade`` None for every blade alike (then the first blade's trim gives the values),

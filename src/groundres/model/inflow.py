@@ -22,7 +22,8 @@ coordinates that appear nowhere else (:attr:`groundres.model.system.System.integ
 so that the equations keep their second-order form; the blades' share of the
 forcing and the loads the inflow puts on them are derived
 (:func:`groundres.symbolic.inflow.derive_inflow_coupling`); the own terms above
-are added here, a 1/N share with each blade.
+are given here (:func:`own_arrays`), a 1/N share with each blade, and joined to the blades'
+arrays by :mod:`groundres.model.airform`.
 """
 
 from __future__ import annotations
@@ -31,8 +32,7 @@ import math
 
 import numpy as np
 
-from ..symbolic.codegen import INFLOW_STATES, air_values
-from . import trim as trim_module
+from ..symbolic.codegen import INFLOW_STATES
 
 #: The inflow states, in order (:data:`groundres.symbolic.codegen.INFLOW_STATES`).
 STATES = INFLOW_STATES
@@ -67,15 +67,3 @@ def padded(arrays, axis: int) -> np.ndarray:
     widths = [(0, 0)] * arrays.ndim
     widths[axis] = widths[axis + 1] = (0, len(STATES))
     return np.pad(arrays, widths)
-
-
-def with_inflow(arrays, blade, body, aero, state, n_blades: int) -> np.ndarray:
-    """One blade's arrays in air (3, 5, 8, 8, n_s) with the inflow states: (3, 5, 11, 11, n_s).
-
-    ``state`` is the trim state (speeds, inflow ratio, coning, trim lag) at every speed.
-    """
-    out = padded(arrays, 2)
-    coefficients = trim_module.coefficients("inflow_in_air", blade, trim_module.hub_of(body), aero)
-    out[1:] += air_values("inflow_in_air", coefficients, *state)
-    mass, damping = own_arrays(aero, n_blades)
-    return out + mass[..., None] + damping[..., None] * (np.abs(state[1]) * state[0])

@@ -53,6 +53,11 @@ class Coordinate:
     frame: str = "nonrotating"
 
     @property
+    def unit(self) -> str:
+        """Unit of the coordinate's displacement (:func:`unit_of`)."""
+        return unit_of(self.kind, self.name)
+
+    @property
     def short(self) -> str:
         """Name of a blade coordinate in a time history and its initial values: ``x``, ``lag1``,
         ``inflow_uniform``."""
@@ -64,6 +69,15 @@ class Coordinate:
         if self.kind == "body":
             return self.name + ("_r" if self.frame == "rotating" else "")
         return f"{self.kind}_{self.name}"
+
+
+def unit_of(kind: str, name: str) -> str:
+    """Unit of a coordinate's displacement: "m" for body translations (in either frame: ``x`` or
+    ``x_r``) and the inflow states (the air their rates, the inflow velocities, carry down),
+    "rad" for angles."""
+    if kind == "inflow":
+        return "m"
+    return "m" if kind == "body" and name.removesuffix("_r") in ("x", "y", "z") else "rad"
 
 
 def multiblade_names(n_blades: int) -> list[tuple[str, int]]:

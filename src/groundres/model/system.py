@@ -14,8 +14,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ..symbolic.codegen import BLADE_ARGUMENTS, air_values, blade_function
-from . import dampers, mbc
+from ..symbolic.codegen import BLADE_ARGUMENTS, blade_function
+from . import airform, dampers, mbc
 from . import inflow as inflow_module
 from . import trim as trim_module
 from .body import BODY_DOFS, Body
@@ -120,6 +120,12 @@ class System:
         ]
         return body + blades
 
+    @cached_property
+    def air_sources(self) -> list:
+        """A rotor in air's blade arrays as monomials of the trim state times fixed arrays
+        (:func:`groundres.model.airform.sources`), found once."""
+        return airform.sources(self)
+
     @property
     def local_indices(self) -> list[int]:
         """Where each coordinate a blade touches sits among a blade's local coordinates
@@ -138,26 +144,15 @@ class System:
         (1, cos psi, sin psi, cos 2 psi, sin 2 psi) of that blade.
         """
         speeds = np.asarray(speeds, dtype=float)
+        if self.rotor.aero is not None:  # (monomials of the trim state times fixed arrays)
+            return airform.blade_arrays(self, speeds)
         sel = (slice(None),) + np.ix_(range(3), range(5), self._local, self._local)
-
-        aero = self.rotor.aero
-        trim = self.trim(speeds) if aero is not None else None
 
         def one(k):
             blade = self.rotor.blades[k]
             values = {name: getattr(blade, name) for name in BLADE_ARGUMENTS if hasattr(blade, name)}
             hub = {k: getattr(self.body, k) for k in ("hub_height", "hub_x", "hub_y")}
-            if aero is None:
-                arrays = blade_function()(speeds, **hub, **values)
-            else:
-                coefficients = trim_module.coefficients(
-                    "blade_in_air", blade, trim_module.hub_of(self.body), aero
-                )
-                state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
-                arrays = air_values("blade_in_air", coefficients, *state)
-                if self.inflow_states:
-                    arrays = inflow_module.with_inflow(arrays, blade, self.body, aero, state, self.n_blades)
-            return np.moveaxis(arrays, -1, 0)[sel]
+            return np.moveaxis(blade_function()(speeds, **hub, **values), -1, 0)[sel]
 
         if self.rotor.blades_alike:
             first = one(0)

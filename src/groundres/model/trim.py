@@ -176,7 +176,7 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     live = spinning & (aero.air_density > 0)
     beta[~live], zeta[~live], lam[~live] = 0.0, 0.0, 0.0  # (no load: the blades at rest, no inflow)
     active = np.flatnonzero(live)
-    thrust_at, torque_at = np.zeros(n_s), np.zeros(n_s)  # (SI after the unit below)
+    thrust_at, torque_at = np.zeros(n_s), np.zeros(n_s)
     for _ in range(MAX_STEPS):
         if active.size == 0:
             break
@@ -186,9 +186,8 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         size = 2 * k + 1
         residual = np.zeros((m, size))
         jacobian = np.zeros((m, size, size))
-        thrust = np.zeros(m)
-        # thrust and torque, and their derivatives in the unknowns (the last step moves them)
-        moved = np.zeros((2, m, size + 1))
+        # the rotor's thrust and torque, and their derivatives in the unknowns
+        rotor_loads = np.zeros((2, m, size + 1))
         for j, value in enumerate(loads):
             for row in range(2):
                 residual[:, 2 * j + row] = value[row, 0]
@@ -199,17 +198,15 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
                 residual[:, 2 * j] = beta[active, j]
                 jacobian[:, 2 * j, :] = 0.0
                 jacobian[:, 2 * j, 2 * j] = 1.0
-            thrust += count[j] * value[2, 0]
             for r, row in enumerate((2, 3)):
-                moved[r, :, 0] += count[j] * value[row, 0]
-                moved[r, :, 1 + 2 * j] += count[j] * value[row, 1]
-                moved[r, :, 2 + 2 * j] += count[j] * value[row, 2]
-                moved[r, :, -1] += count[j] * value[row, 3]
-            jacobian[:, -1, 2 * j] = count[j] * value[2, 1]
-            jacobian[:, -1, 2 * j + 1] = count[j] * value[2, 2]
-            jacobian[:, -1, -1] += count[j] * value[2, 3]
+                rotor_loads[r, :, 0] += count[j] * value[row, 0]
+                rotor_loads[r, :, 1 + 2 * j] += count[j] * value[row, 1]
+                rotor_loads[r, :, 2 + 2 * j] += count[j] * value[row, 2]
+                rotor_loads[r, :, -1] += count[j] * value[row, 3]
+        # momentum theory: the thrust is momentum * 2 lambda abs(lambda)
         l_now = lam[active]
-        residual[:, -1] = thrust - momentum[active] * 2 * l_now * np.abs(l_now)
+        residual[:, -1] = rotor_loads[0, :, 0] - momentum[active] * 2 * l_now * np.abs(l_now)
+        jacobian[:, -1] = rotor_loads[0, :, 1:]
         jacobian[:, -1, -1] -= momentum[active] * 4 * np.abs(l_now)
         with np.errstate(all="ignore"):
             try:
@@ -224,9 +221,10 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
         beta[active] += step[:, 0:-1:2]
         zeta[active] += step[:, 1:-1:2]
         lam[active] += step[:, -1]
-        # (with flap held, its row's derivatives in coning are those of the held hinge: none move)
-        thrust_at[active] = moved[0, :, 0] + np.einsum("mi,mi->m", moved[0, :, 1:], step)
-        torque_at[active] = moved[1, :, 0] + np.einsum("mi,mi->m", moved[1, :, 1:], step)
+        # (the loads at the trim: the last evaluation's moved along the step, to its square)
+        thrust_at[active], torque_at[active] = rotor_loads[:, :, 0] + np.einsum(
+            "rmi,mi->rm", rotor_loads[:, :, 1:], step
+        )
         scale = 1 + np.abs(np.concatenate([beta[active], zeta[active], lam[active, None]], axis=1)).max(-1)
         active = active[biggest > LAST_STEP * scale]
     else:
@@ -234,15 +232,13 @@ def solve_trim(rotor, body, speeds, unit_kg: float = 1.0, guess: Trim | None = N
     beyond = np.flatnonzero(((np.abs(beta) > math.pi / 2) | (np.abs(zeta) > math.pi / 2)).any(1))
     if len(beyond):
         _no_trim(speeds[beyond[0]], rotor)
-    # (thrust and torque zero where the rotor stands still or has no air)
-    thrust, torque = thrust_at, torque_at
-    return Trim(
+    return Trim(  # (thrust and torque zero where the rotor stands still or has no air)
         rotor_speed=speeds,
         inflow_ratio=lam,
         coning=beta[:, which],
         trim_lag=zeta[:, which],
-        thrust=thrust * unit_kg,
-        torque=torque * unit_kg,
+        thrust=thrust_at * unit_kg,
+        torque=torque_at * unit_kg,
         thrust_coefficient=2 * lam * np.abs(lam),
         solidity=aero.solidity(n),
     )

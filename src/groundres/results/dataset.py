@@ -22,11 +22,8 @@ CONVENTIONS = "CF-1.10"
 
 
 def coordinate_unit(coordinate) -> str:
-    """Unit of a nonrotating coordinate: m for body translations and the inflow states (their
-    rates are the inflow velocities, m/s), rad for angles."""
-    if coordinate.kind == "inflow":
-        return "m"
-    return "m" if coordinate.kind == "body" and coordinate.name in TRANSLATIONS else "rad"
+    """Unit of a coordinate (:func:`groundres.model.mbc.unit_of`)."""
+    return coordinate.unit
 
 
 def case_attributes(case) -> dict:

@@ -64,11 +64,8 @@ class Phasor:
 
     @property
     def unit(self) -> str:
-        """Unit of the displacement: "m" for body translations and the inflow states (whose rates
-        are the inflow velocities), "rad" for angles."""
-        if self.kind == "inflow":
-            return "m"
-        return "m" if self.kind == "body" and self.name in ("x", "y", "z", "x_r", "y_r") else "rad"
+        """Unit of the displacement (:func:`groundres.model.mbc.unit_of`)."""
+        return mbc.unit_of(self.kind, self.name)
 
     def as_dict(self) -> dict:
         """The phasor as numbers (phases [deg]; NaN where the displacement is zero);

@@ -35,20 +35,26 @@ def kept_states(n: int, integrals=()) -> np.ndarray:
     return np.setdiff1d(np.arange(2 * n), np.asarray(integrals, int))
 
 
-def state_matrix(mass, damping, stiffness, integrals=()):
-    """First-order form x' = A x with x = [q, q'] (without the positions of ``integrals``,
-    :func:`kept_states`), stacked over leading axes."""
-    n = mass.shape[-1]
-    rhs = np.linalg.solve(mass, np.concatenate([stiffness, damping], axis=-1))
-    a = np.zeros(mass.shape[:-2] + (2 * n, 2 * n))
+def first_order(accelerations, integrals=()):
+    """x' = A x with x = [q, q'] from the accelerations' rows q'' = F x, ``accelerations``
+    (..., n, 2n); without the positions of ``integrals`` (:func:`kept_states`)."""
+    n = accelerations.shape[-2]
+    a = np.zeros(accelerations.shape[:-2] + (2 * n, 2 * n))
     a[..., :n, n:] = np.eye(n)
-    a[..., n:, :] = -rhs
+    a[..., n:, :] = accelerations
     if len(integrals):
-        if np.asarray(stiffness)[..., np.asarray(integrals, int)].any():
-            raise ValueError("an integral coordinate has stiffness: its position is a state")
         keep = kept_states(n, integrals)
         a = a[..., keep[:, None], keep]
     return a
+
+
+def state_matrix(mass, damping, stiffness, integrals=()):
+    """First-order form x' = A x with x = [q, q'] (without the positions of ``integrals``,
+    :func:`kept_states`), stacked over leading axes."""
+    if len(integrals) and np.asarray(stiffness)[..., np.asarray(integrals, int)].any():
+        raise ValueError("an integral coordinate has stiffness: its position is a state")
+    rhs = np.linalg.solve(mass, np.concatenate([stiffness, damping], axis=-1))
+    return first_order(-rhs, integrals)
 
 
 def displacements(vectors, values, n: int, integrals=()):
@@ -61,10 +67,15 @@ def displacements(vectors, values, n: int, integrals=()):
     k = len(integrals)
     out = np.empty(vectors.shape[:-2] + (n, vectors.shape[-1]), complex)
     out[..., np.setdiff1d(np.arange(n), integrals), :] = vectors[..., : n - k, :]
-    values = np.asarray(values)[..., None, :]
-    safe = np.where(values == 0, 1.0, values)
-    out[..., integrals, :] = vectors[..., n - k + integrals, :] / safe
+    out[..., integrals, :] = integrated(vectors[..., n - k + integrals, :], np.asarray(values)[..., None, :])
     return out
+
+
+def integrated(rates, values):
+    """Displacements whose rates are ``rates`` in motion growing as exp(``values`` t) (the two
+    broadcast): rates over values; where a value is zero (a constant rate), the rates
+    themselves, for their shape."""
+    return np.where(values == 0, rates, rates / np.where(values == 0, 1.0, values))
 
 
 def unit_mass_state_matrix(mass, damping, stiffness, integrals=()):

@@ -305,10 +305,7 @@ class Rotating(_TimeInvariant):
                 raw.eigenvalue[:, None, :] + 1j * orders[None, :, None] * np.asarray(speeds)[:, None, None]
             )
             pair = list(integrals[1:])
-            rates = harmonics[:, pair]
-            harmonics[:, pair] = np.where(
-                moving[:, None] != 0, rates / np.where(moving == 0, 1, moving)[:, None], rates
-            )
+            harmonics[:, pair] = modal.integrated(harmonics[:, pair], moving[:, None])
         one = np.zeros(raw.vector.shape[-1], int)  # labels are in nonrotating coordinates: one block
         return modal.Eigensolution(
             raw.eigenvalue, raw.vector, one, [np.arange(raw.vector.shape[1])], harmonics, orders

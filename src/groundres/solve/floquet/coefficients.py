@@ -251,7 +251,7 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
     :func:`per_speed`) the system is a split one
     (:meth:`groundres.model.system.System.split_damping`).
     """
-    from ..modal import batched, kept_states  # (threads for a long batch)
+    from ..modal import batched, first_order  # (threads for a long batch)
 
     speeds = np.asarray(speeds, dtype=float)
     damping = per_speed(damping, len(speeds))
@@ -272,13 +272,7 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
             psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
             blocks = system.grid_cache[key] = node_blocks(system, psi, directions)
     f = np.swapaxes(expand(blocks, node_coefficients(speeds, damping)), 0, 1)
-    n = f.shape[-2]
-    a = np.zeros(f.shape[:-2] + (2 * n, 2 * n))
-    a[..., :n, n:] = np.eye(n)
-    a[..., n:, :] = f
-    if len(system.integrals):  # (their positions are no state: no root at zero for them)
-        keep = kept_states(n, system.integrals)
-        a = a[..., keep[:, None], keep]
+    a = first_order(f, system.integrals)  # (the integrals' positions are no state)
     return batched(np.linalg.eigvals, a.reshape((-1,) + a.shape[-2:])).reshape(a.shape[:-1])
 
 
