@@ -141,7 +141,7 @@ def time_history(
     if inflow:  # (the inflow states' rates are the inflow velocities)
         for i in inflow:
             axes[-1].plot(t, sim.velocity[:, i] / scale, lw=0.9, label=coords[i].name)
-        axes[-1].set_ylabel("inflow velocity / d [1/s or m/(s rad)]")
+        axes[-1].set_ylabel("inflow velocity / d\n[m/s per unit d]")
         axes[-1].legend(loc="upper left", fontsize=8, ncol=3)
     _log_panel(log_ax, t, shown, body, coords, name, growth, predicted)
     trans = [i for i in body if coords[i].name not in _ANGLES]
