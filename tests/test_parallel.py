@@ -39,3 +39,12 @@ def test_a_batch_split_again_inside_the_pool_runs_in_place():
     with concurrent.futures.ThreadPoolExecutor(1) as watchdog:
         got = watchdog.submit(parallel.map_threads, outer, range(4)).result(timeout=30)
     assert got == [[x + 1, 10 * x + 1] for x in range(4)]
+
+
+def test_serial_blas_keeps_blas_single_threaded_inside_and_restores_it():
+    """(A long product of small matrices outside the pool must not wake BLAS threads that then
+    spin through the pool's next batch.)"""
+    before = _blas_threads()
+    with parallel.serial_blas():
+        assert set(_blas_threads()) == {1}
+    assert _blas_threads() == before

@@ -23,6 +23,8 @@ trim and a product, not the assembly of the blades' matrices.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..symbolic.codegen import air_monomials
@@ -33,6 +35,24 @@ from . import trim as trim_module
 CHUNK = 256
 #: Ratio of one band of speeds to the next (module docstring).
 BAND = 16.0
+
+
+class Source(NamedTuple):
+    """Fixed arrays of a rotor in air weighed by monomials of the trim state (:func:`sources`)."""
+
+    #: The blade (None: every blade alike; then the first blade's trim gives the values).
+    blade: int | None
+    #: The generated function whose monomials weigh ``arrays``, or "own-mass" and
+    #: "own-damping" for the dynamic inflow's own terms (a 1/N share on every blade).
+    kind: str
+    #: (K, 3, 5, nl, nl): mass, damping, stiffness harmonics on the system's coordinates.
+    arrays: np.ndarray
+    #: Which of the kind's monomials they are, (K,).
+    which: np.ndarray
+    #: The flat entries of a (3, 5, nl, nl) array that any of them touches, (E,).
+    entries: np.ndarray
+    #: ``arrays`` on those entries only, (K, E) (a few per cent of the whole are not zero).
+    compact: np.ndarray
 
 
 class AirForm:
@@ -50,16 +70,16 @@ class AirForm:
 
     def __init__(self, system, transform):
         self.system, self.transform = system, transform
-        self.sources = system.air_sources  # [(blade or None, kind, arrays (K, 3, 5, nl, nl), which)]
+        self.sources = system.air_sources  # [Source]
         self.bands = {}
 
     def _band(self, band: float):
         """(A, B, C) of every source and of F_0 at ``band`` [rad/s], (3, 1 + S, 3 n^2)."""
         if band not in self.bands:
             system = self.system
-            n_b, shape = system.n_blades, self.sources[0][2].shape[1:]
+            n_b, shape = system.n_blades, self.sources[0].arrays.shape[1:]
             rows = [(None, np.zeros(shape))] + [
-                (blade, array) for blade, _, arrays, _ in self.sources for array in arrays
+                (source.blade, array) for source in self.sources for array in source.arrays
             ]
             parts = []
             for start in range(0, len(rows), CHUNK):
@@ -110,15 +130,15 @@ def source_values(system, speeds) -> np.ndarray:
     monomials of each blade's trim state, or the inflow's own 1 and ``abs(lambda) Omega``."""
     trim = system.trim(speeds)
     columns = []
-    for blade, kind, _, touch in system.air_sources:
-        k = 0 if blade is None else blade
-        if kind == "own-mass":
+    for source in system.air_sources:
+        k = 0 if source.blade is None else source.blade
+        if source.kind == "own-mass":
             columns.append(np.ones((len(speeds), 1)))
-        elif kind == "own-damping":
+        elif source.kind == "own-damping":
             columns.append((np.abs(trim.inflow_ratio) * speeds)[:, None])
         else:
             state = (speeds, trim.inflow_ratio, trim.coning[:, k], trim.trim_lag[:, k])
-            columns.append(air_monomials(kind, *state)[:, touch])
+            columns.append(air_monomials(source.kind, *state)[:, source.which])
     return np.concatenate(columns, axis=1)
 
 
@@ -129,13 +149,15 @@ def blade_arrays(system, speeds) -> np.ndarray:
     speeds = np.asarray(speeds, dtype=float).reshape(-1)
     found = system.air_sources
     values = source_values(system, speeds)
-    shape = found[0][2].shape[1:]
-    owners = sorted({-1 if blade is None else blade for blade, _, _, _ in found})
+    shape = found[0].arrays.shape[1:]
+    owners = sorted({-1 if source.blade is None else source.blade for source in found})
     total = {b: np.zeros((len(speeds), int(np.prod(shape)))) for b in owners}
     col = 0
-    for blade, _, arrays, _ in found:
-        count = len(arrays)
-        total[-1 if blade is None else blade] += values[:, col : col + count] @ arrays.reshape(count, -1)
+    for source in found:  # (onto the entries the source touches: a few per cent of the arrays)
+        count = len(source.arrays)
+        total[-1 if source.blade is None else source.blade][:, source.entries] += (
+            values[:, col : col + count] @ source.compact
+        )
         col += count
     common = total.pop(-1, None)
     if not total:  # (every blade alike)
@@ -147,24 +169,29 @@ def blade_arrays(system, speeds) -> np.ndarray:
     return own.reshape((len(speeds), system.n_blades) + shape)
 
 
-def sources(system) -> list:
-    """The blades' arrays in air as sources: (blade, kind, arrays (K, 3, 5, nl, nl), which of the
-    kind's monomials they are (K,)) with
-    ``blade`` None for every blade alike (then the first blade's trim gives the values),
-    ``kind`` the generated function whose monomials weigh ``arrays``, or "own-mass" and
-    "own-damping" for the dynamic inflow's own terms (a 1/N share on every blade)."""
+def sources(system) -> list[Source]:
+    """The blades' arrays in air as sources (:class:`Source`): each blade's (one for all where
+    they are alike) weighed by the monomials of its trim state, and the dynamic inflow's own."""
     rotor, body = system.rotor, system.body
     aero = rotor.aero
     out = []
 
     def add(blade, kind, arrays):  # (the monomials that touch the system's coordinates only)
-        touch = np.flatnonzero(np.abs(arrays).reshape(len(arrays), -1).max(-1) > 0)
-        out.append((blade, kind, arrays[touch], touch))
+        flat = arrays.reshape(len(arrays), -1)
+        touch = np.flatnonzero(np.abs(flat).max(-1) > 0)
+        entries = np.flatnonzero((flat[touch] != 0).any(0))
+        out.append(Source(blade, kind, arrays[touch], touch, entries, flat[touch][:, entries]))
 
     index = np.array(system.local_indices)
 
-    def local(arrays):  # (every monomial's arrays on the system's coordinates)
-        return arrays[:, :, :, index][:, :, :, :, index]
+    def local(arrays):
+        """Every monomial's arrays (K, 3, 5, m, m) on the system's coordinates (those past m,
+        the inflow states on arrays without them, are zero)."""
+        inside = np.flatnonzero(index < arrays.shape[-1])
+        out = np.zeros(arrays.shape[:3] + (len(index), len(index)))
+        taken = arrays.take(index[inside], axis=3).take(index[inside], axis=4)
+        out[:, :, :, inside[:, None], inside] = taken
+        return out
 
     n_inflow = len(system.inflow_states)
     blades = [None] if rotor.blades_alike else list(range(system.n_blades))
@@ -173,7 +200,6 @@ def sources(system) -> list:
         blade = rotor.blades[0 if k is None else k]
         arrays = trim_module.coefficients("blade_in_air", blade, hub, aero)
         if n_inflow:
-            arrays = inflow_module.padded(arrays, 3)
             coupling = trim_module.coefficients("inflow_in_air", blade, hub, aero)
             add(k, "inflow_in_air", local(np.concatenate([np.zeros_like(coupling[:, :1]), coupling], 1)))
         add(k, "blade_in_air", local(arrays))

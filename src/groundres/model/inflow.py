@@ -60,10 +60,3 @@ def own_arrays(aero, n_blades: int) -> np.ndarray:
         out[1, 1, 0, 8 + i, 8 + i] = scale * gain
     return out
 
-
-def padded(arrays, axis: int) -> np.ndarray:
-    """A blade's arrays in air with room for the inflow states: the two local axes from
-    ``axis`` on grown from 8 to 11 (zero where the inflow states are)."""
-    widths = [(0, 0)] * arrays.ndim
-    widths[axis] = widths[axis + 1] = (0, len(STATES))
-    return np.pad(arrays, widths)

@@ -54,13 +54,22 @@ def _mark_inside():
 
 
 @contextlib.contextmanager
+def serial_blas():
+    """BLAS single-threaded inside the block: for batches of small products outside the pool
+    (OpenBLAS wakes its threads for a long product of small matrices, gaining little; they
+    then spin for a while and take the cores from the pool's next batch)."""
+    with _controller().limit(limits=1, user_api="blas"):
+        yield
+
+
+@contextlib.contextmanager
 def in_place():
     """Batches run in the calling thread and BLAS single-threaded, inside the block: for a
     process that shares the cores with others (a Dask worker, one core each)."""
     before = getattr(_LOCAL, "inside", False)
     _LOCAL.inside = True
     try:
-        with _controller().limit(limits=1, user_api="blas"):
+        with serial_blas():
             yield
     finally:
         _LOCAL.inside = before

@@ -49,6 +49,7 @@ from . import modal
 from .floquet import exponents, transition
 from .floquet.symmetry import symmetry
 from .floquet.tableau import DOP8
+from .parallel import serial_blas
 
 #: In air, batches of at least this many new speeds are assembled from the blades' matrices;
 #: shorter ones (a scan's, a search's) summed over the monomials of the trim state.
@@ -189,7 +190,8 @@ class _TimeInvariant(Solver):
             form = AirForm(self.system, self.transform)
 
             def compute(speeds, _):  # (a long batch assembled as it is: no bands to build for it)
-                return self.transform(speeds) if len(speeds) >= AIR_BATCH else form(speeds)
+                with serial_blas():
+                    return self.transform(speeds) if len(speeds) >= AIR_BATCH else form(speeds)
 
             self._forms = SpeedTable(compute, limit=20_000)
         return self._forms(np.asarray(speeds, dtype=float))

@@ -161,42 +161,41 @@ def air_coefficients(name: str, **fixed):
 
 @functools.cache
 def _exponents(name: str):
-    """The monomials' exponents of a function in air, (K, 8) int, and the largest of each."""
+    """The monomials of a function in air as two factors, each a product of few distinct powers:
+    of (speed, inflow ratio, coning, trim lag), and of (their cosines and sines). Returns the
+    highest power p, each distinct factor's rows in a table of the 8 state values' powers 0..p
+    (:func:`air_monomials`), (P, 4) and (Q, 4), and each monomial's pair of factors, (K,), (K,)."""
     import numpy as np
 
     from . import generated_air
 
     exponents = np.array(getattr(generated_air, f"{name.upper()}_MONOMIALS"), dtype=np.intp)
-    return exponents, exponents.max(axis=0)
+    top = int(exponents.max())
+    rows = exponents + (top + 1) * np.arange(8)  # (row of value j to the power e: j (p + 1) + e)
+    plain, plain_of = np.unique(rows[:, :4], axis=0, return_inverse=True)
+    circular, circular_of = np.unique(rows[:, 4:], axis=0, return_inverse=True)
+    return top, plain, circular, plain_of.reshape(-1), circular_of.reshape(-1)
 
 
 def air_monomials(name: str, rotor_speed, inflow_ratio, coning, trim_lag):
     """The monomials of the trim state of a function in air at every speed, (n_s, K) (arrays
-    (n_s,): [rad/s], [-], [rad], [rad])."""
+    (n_s,): [rad/s], [-], [rad], [rad]): a table of the powers of the state and of its cosines
+    and sines (repeated products: exact small whole powers), and products of the few distinct
+    factors that occur (:func:`_exponents`)."""
     import numpy as np
 
-    exponents, largest = _exponents(name)
-    coning, trim_lag = np.asarray(coning, dtype=float), np.asarray(trim_lag, dtype=float)
-    state = np.broadcast_arrays(
-        rotor_speed,
-        inflow_ratio,
-        coning,
-        trim_lag,
-        np.cos(coning),
-        np.sin(coning),
-        np.cos(trim_lag),
-        np.sin(trim_lag),
+    top, plain, circular, plain_of, circular_of = _exponents(name)
+    state = np.array(np.broadcast_arrays(rotor_speed, inflow_ratio, coning, trim_lag), dtype=float)
+    state = state.reshape(4, -1)
+    values = np.concatenate(
+        [state, np.cos(state[2:3]), np.sin(state[2:3]), np.cos(state[3:]), np.sin(state[3:])]
     )
-    n_s = state[0].size
-    monomials = np.ones((n_s, len(exponents)))
-    for j, values in enumerate(state):  # (powers by repeated products: exact small whole powers)
-        if largest[j] == 0:
-            continue
-        powers = np.ones((largest[j] + 1, n_s))
-        for e in range(1, largest[j] + 1):
-            powers[e] = powers[e - 1] * values.reshape(-1)
-        monomials *= powers[exponents[:, j]].T
-    return monomials
+    powers = np.ones((8, top + 1, values.shape[1]))
+    for e in range(1, top + 1):
+        powers[:, e] = powers[:, e - 1] * values
+    powers = powers.reshape(8 * (top + 1), -1)
+    first, second = powers[plain].prod(1), powers[circular].prod(1)  # (P, n_s), (Q, n_s)
+    return first.T[:, plain_of] * second.T[:, circular_of]
 
 
 def air_values(name: str, coefficients, rotor_speed, inflow_ratio, coning, trim_lag):
