@@ -59,4 +59,3 @@ def own_arrays(aero, n_blades: int) -> np.ndarray:
         out[0, 0, 0, 8 + i, 8 + i] = scale * mass
         out[1, 1, 0, 8 + i, 8 + i] = scale * gain
     return out
-
