@@ -63,7 +63,7 @@ def paired(work, case, repeats: int) -> tuple[float, float]:
         for name, c in (("vacuum", vacuum), ("air", air)):
             start = time.perf_counter()
             own = work(c)
-            times[name].append(time.perf_counter() - start if own is None else own)
+            times[name].append(own if isinstance(own, float) else time.perf_counter() - start)
     return statistics.median(times["vacuum"]), statistics.median(times["air"])
 
 
