@@ -276,6 +276,8 @@ def print_result(console, result, summary: dict, out_dir, fmt: str = "png") -> N
         console.print(trim_table(summary, sweep))
         if not result.case.rotor.blades_alike:
             console.print("Coning and trim lag of blade 1 (the blades differ: each blade's in summary.json).")
+    if result.case.rotor.nonlinear:
+        console.print(plain(f"Nonlinear lag dampers: {summary['lag_dampers']['note']}."))
     if summary["stable"]:
         console.print(
             "[green]Stable[/green] over the whole sweep "

@@ -110,6 +110,10 @@ def command(case, speed, duration, initial, out, fmt):
             f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
             f" ({100 * (growth - predicted) / abs(predicted):+.3f} %)."
         )
+    if sim.case.rotor.nonlinear:  # (the time integration with the laws themselves is yet to come)
+        from ..results.damper_laws import SMALL_MOTION_NOTE
+
+        console.print(plain(f"Nonlinear lag dampers: {SMALL_MOTION_NOTE.replace('analysis', 'simulation')}."))
     console.print(f"Wrote {plain(out_dir)}/simulation.{fmt}, simulation.csv, case.toml, provenance.json")
 
 

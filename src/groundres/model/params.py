@@ -118,17 +118,28 @@ class Rotor:
     aero : Aero or None
         The blades' aerodynamics (:mod:`groundres.model.aero`): the rotor in air,
         linearised about its hover trim; None (the default): in vacuum.
+    lag_laws : tuple of BladeDamper or None
+        Nonlinear lag damper laws (:mod:`groundres.model.damper_laws`), one entry per blade
+        (None: the blade's own linear ``lag_damping``), or empty (no laws). The blades then
+        hold each law's small-motion values (:meth:`with_lag_laws`), which every linear
+        analysis uses; :meth:`equivalent` gives the rotor at other amplitudes.
     """
 
     blades: tuple
     flap: bool = False
     dampers: tuple = ()
     aero: Aero | None = None
+    lag_laws: tuple = ()
 
     def __post_init__(self):
         if not 2 <= len(self.blades) <= MAX_BLADES:
             raise ParameterError("blades", len(self.blades), f"a rotor needs 2 to {MAX_BLADES} blades")
         object.__setattr__(self, "dampers", tuple(self.dampers))
+        object.__setattr__(self, "lag_laws", tuple(self.lag_laws))
+        if self.lag_laws and len(self.lag_laws) != len(self.blades):
+            raise ParameterError(
+                "lag_laws", len(self.lag_laws), f"must give one entry per blade ({len(self.blades)})"
+            )
         offsets = [b.hinge_offset for b in self.blades]
         for damper in self.dampers:
             damper.check(offsets, len(self.blades))
@@ -177,6 +188,30 @@ class Rotor:
             return False
         turned = sorted((d.turned(shift, n) for d in self.dampers), key=repr)
         return turned == sorted(self.dampers, key=repr)
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether any blade's lag damper follows a law other than a linear one."""
+        return any(d is not None and d.law.law != "linear" for d in self.lag_laws)
+
+    def with_lag_laws(self, laws: tuple) -> Rotor:
+        """A copy whose blades carry ``laws`` (per blade a BladeDamper or None), each such blade at
+        its law's small-motion damping and stiffness."""
+        blades = list(self.blades)
+        for k, entry in enumerate(laws):
+            if entry is not None:
+                blades[k] = replace(blades[k], **entry.linear(*entry.law.small_motion()))
+        return replace(self, blades=tuple(blades), lag_laws=tuple(laws))
+
+    def equivalent(self, damping, stiffness) -> Rotor:
+        """A copy whose blades with laws have equivalent linear dampers: ``damping`` [N m s/rad]
+        and ``stiffness`` [N m/rad] per blade (sequences; the entries of blades without a law
+        are not read)."""
+        blades = list(self.blades)
+        for k, entry in enumerate(self.lag_laws):
+            if entry is not None:
+                blades[k] = replace(blades[k], **entry.linear(damping[k], stiffness[k]))
+        return replace(self, blades=tuple(blades))
 
     def with_blade(self, index: int, **changes) -> Rotor:
         """A copy in which blade ``index`` (1-based) has some properties changed."""

@@ -15,12 +15,14 @@ from ..errors import CaseError, ParameterError, shown
 from .aero import DEGREE_KEYS, INFLOWS, Aero
 from .body import BODY_DOFS, LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Body, Leg
 from .casefile import LARGEST_NUMBER_TEXT, case_text, toml_data
+from .damper_laws import LIST_KEYS, BladeDamper, DamperLaw
+from .damper_laws import UNITS as LAW_UNITS
 from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
 from .params import BLADE_KEYS, Blade, Case, Rotor, Sweep
 from .units import AERO_UNITS, SPEED_UNITS
 from .validate import finite
 
-_NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
+_NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES, _NUMLIST, _FAILED_OR_TABLE = (
     "a number",
     "a whole number",
     "true or false",
@@ -28,6 +30,8 @@ _NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES = (
     "a list of strings",
     "a table",
     "an array of tables",
+    "a list of numbers",
+    'a table or "failed"',
 )
 
 SCHEMA = {
@@ -52,8 +56,10 @@ SCHEMA = {
         "flap_damping": _NUMBER,
         "blade": _TABLES,
         "damper": _TABLES,
+        "lag_damper": _TABLE,
     },
-    "rotor.blade": {"index": _INT, **{k: _NUMBER for k in BLADE_KEYS}},
+    "rotor.blade": {"index": _INT, **{k: _NUMBER for k in BLADE_KEYS}, "lag_damper": _FAILED_OR_TABLE},
+    "rotor.lag_damper": {"law": _STR, **{k: _NUMLIST if k in LIST_KEYS else _NUMBER for k in LAW_UNITS}},
     "rotor.damper": {"kind": _STR, "blade": _INT, **{k: _NUMBER for k in DAMPER_KEYS if k != "kind"}},
     "body": {
         "dofs": _STRLIST,
@@ -102,7 +108,9 @@ def key_text(table: str, key: str = "") -> str:
     return f"{where} {key}" if key else where
 
 
-def _check_type(table: str, key: str, value, kind: str) -> None:
+def _check_type(table: str, key: str, value, kind: str, where: str = "") -> None:
+    """``value`` of ``key`` is of ``kind`` (CaseError naming it, as ``where`` + key if given)."""
+    name = f"{where}{key}" if where else key_text(table, key)
     ok = {
         _NUMBER: isinstance(value, (int, float)) and not isinstance(value, bool),
         _INT: isinstance(value, int) and not isinstance(value, bool),
@@ -111,27 +119,30 @@ def _check_type(table: str, key: str, value, kind: str) -> None:
         _STRLIST: isinstance(value, list) and all(isinstance(v, str) for v in value),
         _TABLE: isinstance(value, dict),
         _TABLES: isinstance(value, list) and all(isinstance(v, dict) for v in value),
+        _NUMLIST: isinstance(value, list)
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value),
+        _FAILED_OR_TABLE: isinstance(value, dict) or value == "failed",
     }[kind]
     if not ok:
         text = type(value).__name__ if isinstance(value, (dict, list)) else shown(value)
-        raise CaseError(f"{key_text(table, key)} = {text}: must be {kind}")
-    if kind == _NUMBER and not finite(value):
-        raise CaseError(
-            f"{key_text(table, key)} = {shown(value)}: must be a finite number, "
-            f"|value| <= {LARGEST_NUMBER_TEXT}"
-        )
+        raise CaseError(f"{name} = {text}: must be {kind}")
+    numbers = [value] if kind == _NUMBER else value if kind == _NUMLIST else []
+    if not all(finite(v) for v in numbers):
+        what = "finite numbers" if kind == _NUMLIST else "a finite number"
+        raise CaseError(f"{name} = {shown(value)}: must be {what}, |value| <= {LARGEST_NUMBER_TEXT}")
 
 
-def _check_table(table: str, data: dict) -> None:
+def _check_table(table: str, data: dict, where: str = "") -> None:
+    """``data`` holds only ``table``'s keys, of their kinds, and its required ones; messages name
+    the table as the file writes it, or as ``where`` (a table inside a repeated one)."""
     schema = SCHEMA[table]
     for key, value in data.items():
         if key not in schema:
             near = difflib.get_close_matches(key, schema, n=1, cutoff=0.5)
             hint = f"; did you mean '{near[0]}'?" if near else f"; allowed keys: {', '.join(schema)}"
-            raise CaseError(
-                f"unknown key {shown(key)} in {('[' + table + ']') if table else 'the case file'}{hint}"
-            )
-        _check_type(table, key, value, schema[key])
+            inside = where.rstrip(". ") or (("[" + table + "]") if table else "the case file")
+            raise CaseError(f"unknown key {shown(key)} in {inside}{hint}")
+        _check_type(table, key, value, schema[key], where)
     for key in REQUIRED.get(table, ()):
         if key not in data:
             raise CaseError(f"missing key {key_text(table, key)}: it is required")
@@ -150,6 +161,16 @@ def _rotor(data: dict) -> Rotor:
     blade = _build("[rotor] ", Blade, **blade_data)
     flap = data.get("flap", False)
     rotor = _build("[rotor] ", Rotor.uniform, n_blades=data["blades"], blade=blade, flap=flap)
+    layout = data.get("lag_damper")
+    if layout is not None:
+        _check_table("rotor.lag_damper", layout)
+        if "lag_damping" in data:
+            raise CaseError(
+                f"[rotor] lag_damping = {shown(data['lag_damping'])}: a [rotor.lag_damper] law replaces it; "
+                "give one of the two"
+            )
+        _law("[rotor.lag_damper] ", layout)
+    laws = [layout] * rotor.n_blades
     seen = set()
     for entry in data.get("blade", []):
         _check_table("rotor.blade", entry)
@@ -161,12 +182,68 @@ def _rotor(data: dict) -> Rotor:
         if index in seen:
             raise CaseError(f"[[rotor.blade]] index = {index}: each blade may be overridden once")
         seen.add(index)
-        changes = {k: float(v) for k, v in entry.items() if k != "index"}
+        own = entry.get("lag_damper")
+        if own is not None or layout is not None:
+            laws[index - 1] = _blade_law(index, own, layout, entry)
+        changes = {k: float(v) for k, v in entry.items() if k not in ("index", "lag_damper")}
         merged = {**blade_data, **changes}
         _build(f"[[rotor.blade]] index = {index}: ", Blade, **merged)
         rotor = rotor.with_blade(index, **changes)
+    rotor = _with_laws(rotor, laws)
     dampers = _dampers(data.get("damper", []), rotor.n_blades)
-    return _build("[[rotor.damper]] ", Rotor, blades=rotor.blades, flap=rotor.flap, dampers=dampers)
+    return _build(
+        "[[rotor.damper]] ",
+        Rotor,
+        blades=rotor.blades,
+        flap=rotor.flap,
+        dampers=dampers,
+        lag_laws=rotor.lag_laws,
+    )
+
+
+def _law(prefix: str, keys: dict) -> DamperLaw:
+    """The law of a lag damper table (CaseError naming the key)."""
+    try:
+        return DamperLaw.from_keys(keys)
+    except ParameterError as err:
+        shown_value = "(missing)" if err.value is None else shown(err.value)
+        raise CaseError(f"{prefix}{err.key} = {shown_value}: {err.allowed}") from None
+
+
+def _blade_law(index: int, own, layout, entry: dict):
+    """Blade ``index``'s lag damper table ("failed": no damper), from its ``lag_damper``
+    (``"failed"``, or a table: with ``law``, a law of its own; without, keys overriding the
+    rotor's ``layout``)."""
+    where = f"[[rotor.blade]] index = {index}:"
+    if "lag_damping" in entry and layout is not None:
+        raise CaseError(
+            f"{where} lag_damping = {shown(entry['lag_damping'])}: the blades' dampers follow "
+            '[rotor.lag_damper]; a failed one is lag_damper = "failed", another law a lag_damper table'
+        )
+    if own == "failed":
+        return "failed"
+    if own is None:
+        return layout
+    _check_table("rotor.lag_damper", own, f"{where} lag_damper.")
+    if "law" not in own and layout is None:
+        raise CaseError(f"{where} lag_damper has no law: name one (law = ...), or give [rotor.lag_damper]")
+    keys = own if "law" in own else {**layout, **own}
+    _law(f"{where} lag_damper.", keys)
+    return keys
+
+
+def _with_laws(rotor: Rotor, laws: list) -> Rotor:
+    """The rotor whose blades carry their lag damper laws (``laws``: per blade a law's keys, None
+    for the blade's own linear ``lag_damping``, or "failed": no damper at all)."""
+    if all(keys is None for keys in laws):
+        return rotor
+    entries = []
+    for index, keys in enumerate(laws, start=1):
+        if keys == "failed":
+            rotor = rotor.with_blade(index, lag_damping=0.0)
+        root = rotor.blades[index - 1].lag_stiffness
+        entries.append(None if keys in (None, "failed") else BladeDamper(DamperLaw.from_keys(keys), root))
+    return rotor.with_lag_laws(tuple(entries)) if any(entries) else rotor
 
 
 def _dampers(entries: list, n_blades: int) -> tuple:

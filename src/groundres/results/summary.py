@@ -18,6 +18,7 @@ from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold
 from ..model.system import searched, searched_unit
 from ..model.units import ROD_UNITS
 from .air import DEUTSCH_IN_AIR, aero_block, trim_block
+from .damper_laws import laws_block
 
 #: Units of the quantities in summary.json.
 UNITS = {
@@ -250,6 +251,8 @@ def summary(result) -> dict:
     if case.rotor.aero is not None:
         out["aero"] = aero_block(case)
         out["trim"] = trim_block(result)
+    if case.rotor.lag_laws:
+        out["lag_dampers"] = laws_block(case)
     return out
 
 

@@ -268,9 +268,17 @@ def varied_case(data: dict, values: dict, failure: str = NO_FAILURE, source: str
             table_of(data, entry[0])[entry[1] - 1][entry[2]] = number
         else:
             table, _, name = key.rpartition(".")
-            data.setdefault(table, {})[name] = number
+            inner = data
+            for part in table.split(".") if table else ():  # (a table inside a table: rotor.lag_damper)
+                inner = inner.setdefault(part, {})
+            inner[name] = number
     if failure.startswith("blade "):
-        _blade_table(data, int(failure.split()[-1]))["lag_damping"] = 0.0
+        blade = _blade_table(data, int(failure.split()[-1]))
+        if "lag_damper" in data["rotor"] or "lag_damper" in blade:  # (a law: the damper fails whole)
+            blade.pop("lag_damping", None)
+            blade["lag_damper"] = "failed"
+        else:
+            blade["lag_damping"] = 0.0
     elif failure != NO_FAILURE:  # (a damper rod: "<kind> rod <k>", overridden with no damping)
         kind, _, blade = failure.rpartition(" rod ")
         tables = data["rotor"].setdefault("damper", [])
