@@ -1,0 +1,173 @@
+"""Time simulation of the periodic blade-coordinate equations with nonlinear lag damper laws.
+
+The structure is the linear system of the case with every law's blade left
+without its damper (its own root spring kept): M(t) q'' + C(t) q' + K(t) q.
+Each law then adds its moment (:meth:`groundres.model.damper_laws.DamperLaw.moment`)
+on its blade's lag, against it:
+
+    M(t) q'' + C(t) q' + K(t) q = -sum_k e_k M_k(zeta_k, zeta_k', s_k),
+
+with e_k the unit vector of blade k's lag and s_k the friction link's slider,
+a state of its own (s_k' from :meth:`~groundres.model.damper_laws.DamperLaw.slider_rate`).
+The equations' harmonics are formed once, as for the linear simulation
+(:func:`groundres.solve.simulate.harmonic_matrices`).
+
+Stiff-aware: a friction law's regularisation (a slope F / v_eps at rest) and a
+friction link's slider (a time constant c_reg / k_l) can be far faster than
+any motion of the rotor. Where the law's fastest rate exceeds
+:data:`STIFF_RATIO` times the structure's (:func:`law_rate`), the integration
+is implicit (SciPy's Radau, fifth order); otherwise DOP853.
+
+The settled motion is measured as the prediction measures it
+(:func:`components`): each blade's lag over a window, its two largest
+frequency components in the rotating frame (FFT peaks, refined and fitted by
+least squares), the larger one's amplitude being the amplitude the law sees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import least_squares
+
+from ..model.system import System
+from .simulate import fastest_rate, harmonic_matrices
+
+#: The law's rate over the structure's beyond which the integration is implicit.
+STIFF_RATIO = 10.0
+
+
+@dataclass
+class NonlinearHistory:
+    """The motion :func:`integrate` found: time [s], displacements and rates (n_t, n) SI, the
+    sliders (n_t, N) [rad] (zero where a blade has none), the step count and the method."""
+
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    slider: np.ndarray
+    coordinates: list
+    rotor_speed: float
+    steps: int
+    method: str
+
+    def lag(self, blade: int) -> np.ndarray:
+        """Blade ``blade``'s (1-based) lag angle over time [rad]."""
+        names = [c.short for c in self.coordinates]
+        return self.displacement[:, names.index(f"lag{blade}")]
+
+
+def structure(case) -> System:
+    """The case's equations with every law's blade without its damper (its root spring kept),
+    in their mass unit."""
+    rotor = case.rotor
+    n = rotor.n_blades
+    bare = rotor.equivalent([0.0] * n, [0.0] * n) if rotor.lag_laws else rotor
+    return System.in_mass_unit(bare, case.body)
+
+
+def law_rate(case, speed: float) -> float:
+    """The fastest rate a law imposes on its blade [1/s]: a friction regularisation's slope over
+    the blade's inertia about the hinge seen as a damper, c / I; a slider's k_l / c_reg."""
+    rates = [0.0]
+    for blade, entry in zip(case.rotor.blades, case.rotor.lag_laws):
+        if entry is None:
+            continue
+        law = entry.law
+        if law.has_slider:
+            rates.append(law.link_stiffness / law.regularisation_damping)
+        damping, _ = law.small_motion()
+        rates.append(damping / blade.blade_inertia)
+    return max(rates)
+
+
+def integrate(case, speed: float, duration: float, initial, rtol: float = 1e-9, points: int = 8000):
+    """Integrate the equations with the laws from ``initial`` = (q0, v0) (SI, the coordinates of
+    :func:`structure`) over ``duration`` [s] at ``speed`` [rad/s]; sliders start at rest."""
+    system = structure(case)
+    unit = system.mass_unit
+    n, n_b = system.size, system.n_blades
+    mats = harmonic_matrices(system, speed)
+    names = [c.short for c in system.coordinates]
+    laws = [
+        (names.index(f"lag{k + 1}"), e.law, k) for k, e in enumerate(case.rotor.lag_laws) if e is not None
+    ]
+    sliders = [(i, law, k) for i, law, k in laws if law.has_slider]
+    scale = unit.from_si(1.0)  # (a moment [N m] in the equations' mass unit)
+
+    def rhs(t, x):
+        a = speed * t
+        w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
+        m, c, k = np.tensordot(w, mats, axes=(0, 1))
+        q, v, s = x[:n], x[n : 2 * n], x[2 * n :]
+        force = -(c @ v + k @ q)
+        ds = np.zeros(len(sliders))
+        j = 0
+        for i, law, _ in laws:
+            slider = s[j] if law.has_slider else 0.0
+            force[i] -= scale * float(law.moment(q[i], v[i], slider))
+            if law.has_slider:
+                ds[j] = float(law.slider_rate(q[i], slider))
+                j += 1
+        return np.concatenate([v, np.linalg.solve(m, force), ds])
+
+    q0, v0 = (np.asarray(a, dtype=float) for a in initial)
+    stiff = law_rate(case, speed) > STIFF_RATIO * fastest_rate(system, speed)
+    method = "Radau" if stiff else "DOP853"
+    times = np.linspace(0.0, duration, points)
+    size = max(np.abs(np.concatenate([q0, v0])).max(), 1e-12)
+    sol = solve_ivp(
+        rhs,
+        (0.0, duration),
+        np.concatenate([q0, v0, np.zeros(len(sliders))]),
+        method=method,
+        t_eval=times,
+        rtol=rtol,
+        atol=rtol * 1e-3 * size,
+    )
+    if not sol.success:
+        raise RuntimeError(f"time integration failed: {sol.message}")
+    slider = np.zeros((len(sol.t), n_b))
+    for j, (_, _, k) in enumerate(sliders):
+        slider[:, k] = sol.y[2 * n + j]
+    steps = int(sol.nfev)
+    return NonlinearHistory(
+        sol.t, sol.y[:n].T, sol.y[n : 2 * n].T, slider, system.coordinates, float(speed), steps, method
+    )
+
+
+def components(time, signal, count: int = 2):
+    """The ``count`` largest frequency components of ``signal`` over ``time`` (equally spaced):
+    [(frequency [rad/s], amplitude)], largest first. FFT peaks (Hann window), each refined by
+    a parabola through its bin and neighbours, then all fitted together by least squares
+    (cos and sin at each frequency, and a constant), the frequencies refined with them."""
+    t = np.asarray(time, float) - time[0]
+    x = np.asarray(signal, float) - np.mean(signal)
+    dt = t[1] - t[0]
+    spectrum = np.abs(np.fft.rfft(x * np.hanning(len(x))))
+    freqs = 2 * np.pi * np.fft.rfftfreq(len(x), dt)
+    peaks = [
+        i
+        for i in range(1, len(spectrum) - 1)
+        if spectrum[i] >= spectrum[i - 1] and spectrum[i] > spectrum[i + 1]
+    ]
+    peaks = sorted(peaks, key=lambda i: -spectrum[i])[:count]
+    found = []
+    for i in peaks:
+        a, b, c = np.log(spectrum[i - 1 : i + 2] + 1e-300)
+        shift = 0.5 * (a - c) / (a - 2 * b + c) if a - 2 * b + c != 0 else 0.0
+        found.append(freqs[i] + shift * (freqs[1] - freqs[0]))
+
+    def fit(frequencies):  # (cos and sin at each frequency, and a constant: linear least squares)
+        basis = np.stack([np.ones_like(t)] + [f(w * t) for w in frequencies for f in (np.cos, np.sin)], 1)
+        coef, *_ = np.linalg.lstsq(basis, x, rcond=None)
+        return coef, basis @ coef - x
+
+    if found:  # (the frequencies refined where the fit's residual is least: the FFT's bins are coarse)
+        found = list(least_squares(lambda f: fit(f)[1], found, x_scale=freqs[1], xtol=1e-14).x)
+    coef, _ = fit(found)
+    amplitudes = [float(np.hypot(coef[1 + 2 * j], coef[2 + 2 * j])) for j in range(len(found))]
+    out = sorted(zip(found, amplitudes), key=lambda p: -p[1])
+    return [(float(w), a) for w, a in out]

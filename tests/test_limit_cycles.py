@@ -1,0 +1,107 @@
+"""Limit cycles predicted from describing functions (issue 26, item 3): closed-form neutral
+amplitudes.
+
+A law whose equivalent stiffness is constant changes only the blades' damping with amplitude,
+so a cycle sits where c_eq(A w) equals the linear critical damping c_crit at that speed: the
+lag damping at which the linear system's least stable root is neutral. The second route finds
+c_crit by bisection on the linear case (``lag_damping``) with the linear solver, and the
+blade's frequency w = Omega - w_nr from that neutral root (the regressive whirl, which these
+cases' cycles are); the closed forms then give the amplitude:
+
+* Coulomb friction F beside c_v (regularised over 1e-8 rad/s: t(a) = 4 / pi to 1e-12):
+  V* = 4 F / (pi (c_crit - c_v)), a threshold (c_eq falls with amplitude);
+* bilinear: N(v_r / V*) = (c_crit - c2) / (c1 - c2) with the saturation function N; a
+  threshold for a relief valve (c1 > c_crit > c2), a stable cycle for a progressive damper
+  (c1 < c_crit < c2).
+"""
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from groundres.assess import limit_cycles
+from groundres.methods import Method
+from groundres.model.casefile import case_text
+from groundres.model.schema import parse_case
+from groundres.solve.solvers import solver_for
+
+RPM = 2 * math.pi / 60
+THRESHOLD = "small disturbances decay, a disturbance above the threshold grows without bound"
+SETTLES = "grows from any small disturbance to a stable cycle (larger ones decay to it)"
+SPEED = 260 * RPM  # (inside the Hammond (1974) rotor's ground-resonance range without dampers)
+
+
+def _case(law: str):
+    text, source = case_text("hammond-1974")
+    text = text.replace("lag_damping = 4067.5           # [N m s/rad]", "") + "\n[rotor.lag_damper]\n" + law
+    return parse_case(tomllib.loads(text), source, text)
+
+
+def _linear(c: float):
+    text, source = case_text("hammond-1974")
+    text = text.replace("lag_damping = 4067.5", f"lag_damping = {c!r}")
+    return parse_case(tomllib.loads(text), source, text)
+
+
+def _critical(speed: float):
+    """(c_crit [N m s/rad], the blade's frequency at it [rad/s]) by bisection on the linear case."""
+
+    def largest(c):
+        solver = solver_for(_linear(c), Method.MULTIBLADE)
+        return float(solver.real_parts(np.array([speed])).max())
+
+    c = brentq(largest, 1.0, 4067.5, xtol=1e-12, rtol=1e-14)
+    roots = solver_for(_linear(c), Method.MULTIBLADE).roots(np.array([speed]))[0]
+    neutral = roots[np.argmax(roots.real)]
+    return c, speed - abs(neutral.imag)
+
+
+@pytest.fixture(scope="module")
+def critical():
+    return _critical(SPEED)
+
+
+def test_coulomb_threshold_is_four_f_over_pi_times_the_missing_damping(critical):
+    c_crit, w = critical
+    friction, viscous = 150.0, 100.0
+    case = _case(
+        f'law = "friction"\nfriction_moment = {friction}\nregularisation_velocity = 1e-8\n'
+        f"damping = {viscous}\n"
+    )
+    found = limit_cycles.predict(case, [SPEED])
+    (cycle,) = found.cycles
+    rate = 4 * friction / (math.pi * (c_crit - viscous))
+    assert cycle.frequency == pytest.approx(w, rel=1e-9)
+    assert cycle.amplitude == pytest.approx(rate / w, rel=1e-8)
+    assert not cycle.stable and found.verdict(0) == THRESHOLD
+    assert cycle.equivalent_damping == pytest.approx(c_crit, rel=1e-8)
+
+
+@pytest.mark.parametrize("c1, c2, stable", [(4067.5, 200.0, False), (300.0, 4000.0, True)])
+def test_bilinear_cycle_is_where_the_saturation_function_meets_the_critical_damping(critical, c1, c2, stable):
+    c_crit, w = critical
+    relief = 0.2 * c1  # (v_r = 0.2 rad/s)
+    case = _case(f'law = "bilinear"\ndamping = {c1}\nrelief_moment = {relief}\ndamping_after_relief = {c2}\n')
+    found = limit_cycles.predict(case, [SPEED])
+    (cycle,) = found.cycles
+    target = (c_crit - c2) / (c1 - c2)
+    r = brentq(
+        lambda r: 2 / math.pi * (math.asin(r) + r * math.sqrt(1 - r * r)) - target, 0.0, 1.0, xtol=1e-15
+    )
+    assert cycle.amplitude * cycle.frequency == pytest.approx(0.2 / r, rel=1e-8)
+    assert cycle.frequency == pytest.approx(w, rel=1e-9)
+    assert cycle.stable is stable
+    assert found.verdict(0) == (SETTLES if stable else THRESHOLD)
+
+
+def test_a_failed_or_dissimilar_damper_is_refused_until_floquet_cycles_exist():
+    text, source = case_text("hammond-1974")
+    text = text.replace("lag_damping = 4067.5           # [N m s/rad]", "")
+    text += '\n[rotor.lag_damper]\nlaw = "tanh"\ntanh_moment = 400.0\ntanh_rate = 10.0\n'
+    text += '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
+    case = parse_case(tomllib.loads(text), source, text)
+    with pytest.raises(NotImplementedError, match="Floquet"):
+        limit_cycles.predict(case, [SPEED])
