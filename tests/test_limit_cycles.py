@@ -105,3 +105,89 @@ def test_a_failed_or_dissimilar_damper_is_refused_until_floquet_cycles_exist():
     case = parse_case(tomllib.loads(text), source, text)
     with pytest.raises(NotImplementedError, match="Floquet"):
         limit_cycles.predict(case, [SPEED])
+
+
+# -- the pipeline and groundres cycles ----------------------------------------------------------
+
+
+def _cli(*args):
+    from click.testing import CliRunner
+
+    from groundres.cli import main
+
+    return CliRunner().invoke(main, list(args))
+
+
+def _file(tmp_path, law: str, extra: str = "") -> str:
+    text, _ = case_text("hammond-1974")
+    text = text.replace("lag_damping = 4067.5           # [N m s/rad]", "")
+    path = tmp_path / "case.toml"
+    path.write_text(text + "\n[rotor.lag_damper]\n" + law + "\n[limit_cycle]\npoints = 12\n" + extra)
+    return str(path)
+
+
+def test_groundres_cycles_writes_the_diagram_the_json_and_the_threshold_in_words(tmp_path):
+    import json
+
+    from groundres import limit_cycles as pipeline
+    from groundres.model.schema import load_case
+
+    path = _file(
+        tmp_path, 'law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 200.0\n'
+    )
+    out = tmp_path / "out"
+    result = _cli("cycles", path, "--out", str(out))
+    assert result.exit_code == 0, result.output
+    assert {p.name for p in out.iterdir()} == {
+        "limit_cycles.png",
+        "limit_cycles.json",
+        "case.toml",
+        "provenance.json",
+    }
+    data = json.loads((out / "limit_cycles.json").read_text())
+    found = pipeline(load_case(path), linear=False)
+    worst = found.smallest_threshold()
+    assert "Smallest threshold: " + found.threshold_words(worst).replace("\n", " ") in " ".join(
+        result.output.split()
+    )
+    assert len(data["speeds"]) == 12 and data["amplitude_unit"] == "deg"
+    assert [c["amplitude"] for c in data["cycles"]] == [
+        math.degrees(c.amplitude) for c in found.prediction.cycles
+    ]
+    assert all(not c["stable"] for c in data["cycles"])
+
+
+@pytest.mark.parametrize(
+    "law, extra, message",
+    [
+        ('law = "linear"\ndamping = 4067.5\n', "", "limit cycles need a nonlinear lag damper law"),
+        (
+            'law = "tanh"\ntanh_moment = 400.0\ntanh_rate = 10.0\n',
+            '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n',
+            "need the Floquet analysis of the equivalent system",
+        ),
+    ],
+)
+def test_groundres_cycles_refuses_what_it_cannot_predict_with_exit_2(tmp_path, law, extra, message):
+    result = _cli("cycles", _file(tmp_path, law, extra), "--out", str(tmp_path / "out"))
+    assert result.exit_code == 2, result.output
+    assert message in result.output and "Traceback" not in result.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_law_survives_the_air_and_its_cycles_are_predicted_there():
+    text, source = case_text("model-rotor-hover-9deg")
+    assert "lag_damping" in text
+    line = next(s for s in text.splitlines() if s.startswith("lag_damping"))
+    c = float(line.split("=")[1].split("#")[0])
+    text = (
+        text.replace(line, "")
+        + f'\n[rotor.lag_damper]\nlaw = "bilinear"\ndamping = {c}\nrelief_moment = {0.05 * c}\n'
+    )
+    text += f"damping_after_relief = {0.1 * c}\n"
+    case = parse_case(tomllib.loads(text), source, text)
+    assert case.rotor.aero is not None and case.rotor.nonlinear
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, 6)[1:]
+    found = limit_cycles.predict(case, speeds)
+    assert found.growth.shape == (5, len(found.amplitudes))
+    assert np.isfinite(found.growth).all()

@@ -28,6 +28,7 @@ _API = {
     "analyze": "analysis",
     "simulate": "analysis",
     "compare": "analysis",
+    "limit_cycles": "analysis",
     "SweepResult": "results.sweep",
     "Simulation": "results.simulation",
     "Comparison": "results.comparison",

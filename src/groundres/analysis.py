@@ -24,7 +24,8 @@ import numpy as np
 
 from .assess import damping_search, margins, resolution, scan, stability
 from .assess.deutsch import deutsch_in_si
-from .errors import MethodError, ParameterError, brief, shown
+from .assess.limit_cycles import predict
+from .errors import CaseError, MethodError, ParameterError, brief, shown
 from .methods import Method, choose_method, time_invariant
 from .model.params import Case
 from .model.schema import load_case
@@ -32,6 +33,7 @@ from .model.system import System
 from .model.units import SPEED_UNITS
 from .modes.identify import identify_solution
 from .results.comparison import Comparison, Entry, case_name, entry_details
+from .results.limit_cycles import LimitCycleResult
 from .results.simulation import Simulation
 from .results.sweep import SweepResult
 from .solve.floquet import cost
@@ -312,6 +314,40 @@ def simulate(case: Case, speed: float, *, duration=None, initial=None, progress=
         system, speed, duration, (q0, v0), progress=progress, speed_text=name, growth=max(growth, 0.0)
     )
     return Simulation(case, history, values, method, float(roots.real.max()))
+
+
+def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycleResult:
+    """Limit cycles of a case whose lag dampers follow nonlinear laws, predicted from their
+    describing functions (:mod:`groundres.assess.limit_cycles`), at ``[limit_cycle] points``
+    speeds over the sweep and blade lag amplitudes from ``amplitude_min`` to ``amplitude_max``.
+
+    ``linear``: also the linear analysis (the laws at small motion), drawn beside the cycles.
+
+    Raises
+    ------
+    CaseError
+        A case without a nonlinear law, or one whose blades or laws differ (their cycles need a
+        Floquet analysis of the equivalent system, not built yet).
+
+    Examples
+    --------
+    >>> found = limit_cycles(load_case("my-rotor-with-a-relief-valve.toml"))  # doctest: +SKIP
+    >>> found.threshold_words(found.smallest_threshold())  # doctest: +SKIP
+    """
+    if not case.rotor.nonlinear:
+        raise CaseError("[rotor.lag_damper]: limit cycles need a nonlinear lag damper law (none is given)")
+    options = case.limit_cycle
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
+    if progress is not None:
+        progress("limit cycles", 0, None)
+    try:
+        prediction = predict(case, speeds, searched=options.searched)
+    except NotImplementedError as err:
+        raise CaseError(f"[rotor.lag_damper]: {err}") from None
+    if progress is not None:
+        progress("limit cycles", 1, 1)
+    sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
+    return LimitCycleResult(case, prediction, sweep)
 
 
 def compare(cases, methods=None, frame: str | None = None, progress=None) -> Comparison:

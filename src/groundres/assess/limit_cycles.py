@@ -47,6 +47,8 @@ PER_DECADE = 12
 #: Fixed-point steps on the law's frequency at each amplitude, and their relative tolerance.
 ITERATIONS = 8
 FREQUENCY_RTOL = 1e-12
+#: Slowest blade frequency the laws are evaluated at, per rotor speed.
+SLOWEST = 1e-3
 #: Bisection steps on log amplitude (each halves the bracket: 2^-50 of a decade's span).
 BISECTIONS = 50
 #: Second component over the first beyond which the single-harmonic approximation is poor.
@@ -212,7 +214,9 @@ def _neutrality(equivalent, forms, speeds, at, amplitudes):
         c, k = describing.equivalent(law, amplitudes, frequency)
         mats = f0 + c[None, :, None, None] * d_c + k[None, :, None, None] * d_k
         state = _least_stable(equivalent, mats, speeds[at])
-        new = state["frequency"]
+        # (a root without oscillation leaves the hysteretic laws' c_eq = W / (pi w A^2) unbounded:
+        # the law is taken at a slow oscillation instead)
+        new = np.maximum(state["frequency"], SLOWEST * speeds[at])
         done = np.all(np.abs(new - frequency) <= FREQUENCY_RTOL * np.maximum(new, 1e-300))
         frequency = new
         if done:

@@ -15,7 +15,7 @@ import sys
 import click
 
 from ..errors import printable
-from . import cases, compare, damper, equations, gallery, phasors, report, run, simulate, study
+from . import cases, compare, cycles, damper, equations, gallery, phasors, report, run, simulate, study
 from .common import Terminated, UserError, interrupts, matplotlib_folder
 
 
@@ -84,5 +84,5 @@ def main():
     matplotlib_folder()  # (before any command imports matplotlib)
 
 
-for _module in (run, simulate, phasors, study, compare, report, gallery, cases, equations, damper):
+for _module in (run, simulate, phasors, study, compare, report, gallery, cases, equations, damper, cycles):
     main.add_command(_module.command)

@@ -24,6 +24,8 @@ FRAMES = ("nonrotating", "rotating")
 MAX_BLADES = 32
 #: Most speeds a sweep may have.
 MAX_POINTS = 100_000
+#: Most speeds a limit-cycle analysis may have.
+MAX_CYCLE_POINTS = 2000
 #: Most values points x (2 n)^2 of a sweep's state matrices (n coordinates):
 #: an eigen-analysis holds about 60 bytes per value, so this bounds it near 1.2 GB.
 MAX_SWEEP_VALUES = 20_000_000
@@ -313,6 +315,33 @@ class Sweep:
 
 
 @dataclass(frozen=True)
+class LimitCycleOptions:
+    """What a limit-cycle analysis searches (``[limit_cycle]``): blade lag amplitudes from
+    ``amplitude_min`` to ``amplitude_max`` [deg], at ``points`` speeds spread over the sweep."""
+
+    amplitude_min: float = 0.001
+    amplitude_max: float = 30.0
+    points: int = 100
+
+    def __post_init__(self):
+        positive(self, "amplitude_min", "amplitude_max")
+        if not self.amplitude_max <= 90.0:
+            raise ParameterError("amplitude_max", self.amplitude_max, "must be at most 90 [deg]")
+        if not self.amplitude_min < self.amplitude_max:
+            raise ParameterError(
+                "amplitude_min", self.amplitude_min, f"must be below amplitude_max ({self.amplitude_max})"
+            )
+        p = self.points
+        if isinstance(p, bool) or not isinstance(p, int) or not 2 <= p <= MAX_CYCLE_POINTS:
+            raise ParameterError("points", p, f"must be a whole number from 2 to {MAX_CYCLE_POINTS}")
+
+    @property
+    def searched(self) -> tuple[float, float]:
+        """The amplitudes searched [rad]."""
+        return math.radians(self.amplitude_min), math.radians(self.amplitude_max)
+
+
+@dataclass(frozen=True)
 class Case:
     """Everything one analysis needs.
 
@@ -331,6 +360,7 @@ class Case:
     source: str = field(default="", compare=False)
     text: str = field(default="", compare=False, repr=False)
     variant: str = ""
+    limit_cycle: LimitCycleOptions = field(default_factory=LimitCycleOptions)
 
     def in_vacuum(self) -> Case:
         """The same case without its ``[aero]`` table: the rotor in vacuum (the case itself

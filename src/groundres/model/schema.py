@@ -18,7 +18,7 @@ from .casefile import LARGEST_NUMBER_TEXT, case_text, toml_data
 from .damper_laws import LIST_KEYS, BladeDamper, DamperLaw
 from .damper_laws import UNITS as LAW_UNITS
 from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
-from .params import BLADE_KEYS, Blade, Case, Rotor, Sweep
+from .params import BLADE_KEYS, Blade, Case, LimitCycleOptions, Rotor, Sweep
 from .units import AERO_UNITS, SPEED_UNITS
 from .validate import finite
 
@@ -42,6 +42,7 @@ SCHEMA = {
         "body": _TABLE,
         "sweep": _TABLE,
         "aero": _TABLE,
+        "limit_cycle": _TABLE,
     },
     "rotor": {
         "blades": _INT,
@@ -72,6 +73,7 @@ SCHEMA = {
     },
     "body.gear": {k: _NUMBER for k in LEG_KEYS},
     "aero": {**{k: _NUMBER for k in AERO_UNITS}, "inflow": _STR},
+    "limit_cycle": {"amplitude_min": _NUMBER, "amplitude_max": _NUMBER, "points": _INT},
     "sweep": {
         "start": _NUMBER,
         "stop": _NUMBER,
@@ -429,7 +431,9 @@ def _aero(data: dict, rotor: Rotor) -> Rotor:
         value = data.get(err.key, err.value)
         raise CaseError(f"[aero] {err.key} = {shown(value)}: {err.allowed}") from None
     try:
-        return Rotor(blades=rotor.blades, flap=rotor.flap, dampers=rotor.dampers, aero=aero)
+        return Rotor(
+            blades=rotor.blades, flap=rotor.flap, dampers=rotor.dampers, aero=aero, lag_laws=rotor.lag_laws
+        )
     except ParameterError as err:
         value = data.get(err.key, err.value)
         raise CaseError(f"[aero] {err.key} = {shown(value)}: {err.allowed}") from None
@@ -453,11 +457,18 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
         rotor=rotor,
         body=_body(data["body"]),
         sweep=_sweep(data["sweep"]),
+        limit_cycle=_limit_cycle(data.get("limit_cycle", {})),
         title=data.get("title", Path(source).stem if source else "groundres case"),
         description=data.get("description", ""),
         source=source,
         text=text,
     )
+
+
+def _limit_cycle(data: dict) -> LimitCycleOptions:
+    _check_table("limit_cycle", data)
+    values = {k: (v if k == "points" else float(v)) for k, v in data.items()}
+    return _build("[limit_cycle] ", LimitCycleOptions, **values)
 
 
 def load_case(path_or_name: str | Path) -> Case:

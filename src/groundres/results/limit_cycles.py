@@ -1,0 +1,163 @@
+"""What a limit-cycle analysis hands back: the cycles over the speeds, in numbers and in words.
+
+:class:`LimitCycleResult` holds the prediction (:class:`groundres.assess.limit_cycles.LimitCycles`)
+with its case and the linear analysis beside it; ``to_dict()`` is limit_cycles.json,
+``threshold_words`` and ``stable_words`` say a threshold or a cycle as a designer reads it,
+``plot()`` draws the limit-cycle diagram beside the Coleman diagram.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assess.limit_cycles import LARGE, POOR
+from ..model.mbc import unit_of
+from ..model.units import fmt_speed
+from .damper_laws import laws_block
+
+#: Said with every limit-cycle result.
+NOTES = (
+    "amplitudes are of a blade's lag in the rotating frame, its largest frequency component (the one "
+    "the damper law is evaluated at); peak is the sum of all its components (half peak-to-peak)",
+    f"second_component is the next largest component over the largest: beyond {POOR} the single-harmonic "
+    "approximation of the describing function is poor there (poor_approximation)",
+    "the structure is linear (small angles): a cycle beyond "
+    f"{math.degrees(LARGE):g} deg (large) and any growth 'without bound' mean 'until something not modelled "
+    "stops it'",
+)
+
+
+@dataclass
+class LimitCycleResult:
+    """Limit cycles of a case (module docstring).
+
+    Attributes
+    ----------
+    case : Case
+    prediction : LimitCycles
+    linear : SweepResult or None
+        The linear analysis (the laws at small motion) drawn beside the cycles.
+    """
+
+    case: object
+    prediction: object
+    linear: object = None
+
+    @property
+    def thresholds(self) -> list:
+        """The unstable cycles: a lag disturbance above one grows."""
+        return [c for c in self.prediction.cycles if not c.stable]
+
+    @property
+    def stable(self) -> list:
+        """The stable cycles: motion settles on them."""
+        return [c for c in self.prediction.cycles if c.stable]
+
+    def smallest_threshold(self):
+        """The unstable cycle of least amplitude (None: none)."""
+        return min(self.thresholds, key=lambda c: c.amplitude, default=None)
+
+    def largest_stable(self):
+        """The stable cycle of largest amplitude (None: none)."""
+        return max(self.stable, key=lambda c: c.amplitude, default=None)
+
+    def _hub(self, cycle) -> str:
+        parts = []
+        for name, value in cycle.hub.items():
+            if unit_of("body", name) == "m":
+                parts.append(f"{name} {1e3 * value:.3g} mm")
+            else:
+                parts.append(f"{name} {math.degrees(value):.3g} deg")
+        return ", ".join(parts)
+
+    def threshold_words(self, cycle) -> str:
+        """'at 260 rpm a lag disturbance above 0.88 deg (hub x 1.6 mm, y 6.5 mm) grows' ..."""
+        beyond = [c for c in self.prediction.at(cycle.speed) if c.amplitude > cycle.amplitude]
+        fate = "grows to a larger stable cycle" if any(c.stable for c in beyond) else "grows without bound"
+        speed, amplitude = fmt_speed(cycle.speed, self.case.sweep), math.degrees(cycle.amplitude)
+        return f"at {speed} a lag disturbance above {amplitude:.3g} deg (hub {self._hub(cycle)}) {fate}"
+
+    def stable_words(self, cycle) -> str:
+        """'at 260 rpm the blades settle on a lag cycle of 6.2 deg (hub x 11 mm, y 46 mm)' ..."""
+        large = " (large: beyond the small angles the model holds)" if cycle.large else ""
+        return (
+            f"at {fmt_speed(cycle.speed, self.case.sweep)} the motion settles on a lag cycle of "
+            f"{math.degrees(cycle.amplitude):.3g} deg (hub {self._hub(cycle)}){large}"
+        )
+
+    def to_dict(self) -> dict:
+        """limit_cycles.json: the cycles with their units, each speed's verdict, and the notes."""
+        p = self.prediction
+        return {
+            "speed_unit": "rad/s",
+            "amplitude_unit": "deg",
+            "frequency_unit": "rad/s",
+            "hub_units": {
+                name: "m" if unit_of("body", name) == "m" else "rad" for name in self.case.body.dofs
+            },
+            "damping_unit": "N m s/rad",
+            "stiffness_unit": "N m/rad",
+            "searched": [math.degrees(a) for a in (p.amplitudes[0], p.amplitudes[-1])],
+            "method": "describing functions; multiblade eigen-analysis of the equivalent linear system",
+            "lag_dampers": laws_block(self.case),
+            "speeds": [float(w) for w in p.speeds],
+            "verdicts": [p.verdict(i) for i in range(len(p.speeds))],
+            "cycles": [
+                {
+                    "speed": c.speed,
+                    "stable": c.stable,
+                    "amplitude": math.degrees(c.amplitude),
+                    "peak": math.degrees(c.peak),
+                    "frequency_rotating": c.frequency,
+                    "frequency_nonrotating": c.nonrotating_frequency,
+                    "hub": c.hub,
+                    "second_component": c.second_component,
+                    "poor_approximation": c.poor,
+                    "large": c.large,
+                    "equivalent_damping": c.equivalent_damping,
+                    "equivalent_stiffness": c.equivalent_stiffness,
+                }
+                for c in p.cycles
+            ],
+            "notes": list(NOTES),
+        }
+
+    def branches(self) -> list:
+        """The cycles joined over neighbouring speeds: [(stable, [cycles])], each branch the cycles
+        of one stability and one rank (by amplitude, among that stability's) at speed after speed."""
+        p = self.prediction
+        open_ = {}
+        out = []
+        for i, w in enumerate(p.speeds):
+            ranked = {}
+            for c in sorted(p.at(float(w)), key=lambda c: c.amplitude):
+                ranked.setdefault(c.stable, []).append(c)
+            seen = set()
+            for stable, cycles in ranked.items():
+                for rank, c in enumerate(cycles):
+                    key = (stable, rank)
+                    seen.add(key)
+                    if key in open_ and open_[key][0] == i - 1:
+                        open_[key][1].append(c)
+                        open_[key] = (i, open_[key][1])
+                    else:
+                        branch = [c]
+                        out.append((stable, branch))
+                        open_[key] = (i, branch)
+            for key in list(open_):
+                if key not in seen:
+                    del open_[key]
+        return out
+
+    def plot(self, fig=None):
+        """The limit-cycle diagram beside the Coleman diagram (a matplotlib Figure)."""
+        from ..plotting.limit_cycles import limit_cycle_figure
+
+        return limit_cycle_figure(self, fig)
+
+    def growth_sign(self) -> np.ndarray:
+        """+1 where the equivalent system grows, -1 where it decays, over (speeds, amplitudes)."""
+        return np.sign(self.prediction.growth)
