@@ -191,3 +191,19 @@ def test_import_stays_light():
     code = f"import sys, groundres; print(sorted(m for m in {heavy} if m in sys.modules))"
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert proc.stdout.strip() == "[]"
+
+
+def test_a_sigterm_swallowed_where_it_landed_still_ends_the_command():
+    """Python swallows an exception raised in a weak-reference callback or a destructor; a SIGTERM
+    whose Terminated landed there must still end the command (it did not: a study ran on and
+    exited 0)."""
+    from groundres.cli import common
+
+    with pytest.raises(common.Terminated):
+        with common.interrupts():
+            try:
+                common._terminate(15, None)  # (as if raised inside a callback that swallows it)
+            except common.Terminated:
+                pass
+    with common.interrupts():  # (a later command starts afresh)
+        pass

@@ -49,8 +49,9 @@ ITERATIONS = 8
 FREQUENCY_RTOL = 1e-12
 #: Slowest blade frequency the laws are evaluated at, per rotor speed.
 SLOWEST = 1e-3
-#: Bisection steps on log amplitude (each halves the bracket: 2^-50 of a decade's span).
-BISECTIONS = 50
+#: Most steps of the Illinois method on log amplitude, and the bracket [log] at which it stops.
+SECANT_STEPS = 60
+BRACKET = 1e-13
 #: Second component over the first beyond which the single-harmonic approximation is poor.
 POOR = 0.2
 #: Cycles beyond this blade amplitude leave the small-angle structure [rad].
@@ -186,11 +187,20 @@ def predict(case, speeds=None, searched=SEARCHED, per_decade: int = PER_DECADE) 
     s_i, a_i = np.nonzero(np.sign(growth[:, :-1]) * np.sign(growth[:, 1:]) < 0)
     low, high = np.log(amplitudes[a_i]), np.log(amplitudes[a_i + 1])
     below = growth[s_i, a_i] > 0  # (grows below: a stable cycle)
-    for _ in range(BISECTIONS if len(s_i) else 0):
-        mid = 0.5 * (low + high)
+    g_low, g_high = growth[s_i, a_i], growth[s_i, a_i + 1]
+    side = np.zeros(len(s_i), int)  # (the Illinois method: the end kept twice in a row is halved)
+    for _ in range(SECANT_STEPS if len(s_i) else 0):
+        wide = high - low > BRACKET * max(1.0, float(np.abs(np.concatenate([low, high])).max()))
+        if not wide.any():
+            break
+        mid = np.where(g_low != g_high, (low * g_high - high * g_low) / (g_high - g_low), 0.5 * (low + high))
+        mid = np.clip(mid, low + 0.01 * (high - low), high - 0.01 * (high - low))
+        mid = np.where(wide, mid, 0.5 * (low + high))
         g, _ = _neutrality(equivalent, forms, speeds, s_i, np.exp(mid))
-        same = (g > 0) == below
-        low, high = np.where(same, mid, low), np.where(same, high, mid)
+        same = (g > 0) == below  # (mid on the low end's side)
+        low, g_low = np.where(same, mid, low), np.where(same, g, np.where(side == -1, 0.5 * g_low, g_low))
+        high, g_high = np.where(same, high, mid), np.where(same, np.where(side == 1, 0.5 * g_high, g_high), g)
+        side = np.where(same, 1, -1)
     result = LimitCycles(speeds, amplitudes, growth)
     if len(s_i):
         found = np.exp(0.5 * (low + high))
@@ -204,22 +214,31 @@ def predict(case, speeds=None, searched=SEARCHED, per_decade: int = PER_DECADE) 
 
 def _neutrality(equivalent, forms, speeds, at, amplitudes):
     """g at the points (speed index ``at``, blade amplitude), the law's frequency iterated to
-    the root's own; and the state of the last step (roots, vectors, components, frequencies)."""
-    f0, d_c, d_k = (x[:, at] for x in forms)
+    the root's own (each point until its own frequency settles); and the state of the last
+    step at every point (roots, vectors, components, frequencies)."""
     law = equivalent.law
-    # (from the blade's own lag frequency in the rotating frame, the law at its small-motion values)
+    # (from the blade's own lag frequency in the rotating frame)
     blade = equivalent.case.rotor.blades[0]
-    frequency = np.maximum(blade.lag_frequency(speeds[at]) * speeds[at], 1e-6 * speeds[at])
+    frequency = np.maximum(blade.lag_frequency(speeds[at]) * speeds[at], SLOWEST * speeds[at])
+    state = None
+    active = np.arange(len(at))
     for _ in range(ITERATIONS):
-        c, k = describing.equivalent(law, amplitudes, frequency)
+        f0, d_c, d_k = (x[:, at[active]] for x in forms)
+        c, k = describing.equivalent(law, amplitudes[active], frequency[active])
         mats = f0 + c[None, :, None, None] * d_c + k[None, :, None, None] * d_k
-        state = _least_stable(equivalent, mats, speeds[at])
+        found = _least_stable(equivalent, mats, speeds[at[active]])
+        if state is None:
+            state = found
+        else:
+            for key, value in found.items():
+                state[key][active] = value
         # (a root without oscillation leaves the hysteretic laws' c_eq = W / (pi w A^2) unbounded:
         # the law is taken at a slow oscillation instead)
-        new = np.maximum(state["frequency"], SLOWEST * speeds[at])
-        done = np.all(np.abs(new - frequency) <= FREQUENCY_RTOL * np.maximum(new, 1e-300))
-        frequency = new
-        if done:
+        new = np.maximum(found["frequency"], SLOWEST * speeds[at[active]])
+        settled = np.abs(new - frequency[active]) <= FREQUENCY_RTOL * new
+        frequency[active] = new
+        active = active[~settled]
+        if not len(active):
             break
     state["damping"], state["stiffness"] = describing.equivalent(law, amplitudes, frequency)
     return state["root"].real, state

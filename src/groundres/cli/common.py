@@ -33,7 +33,13 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread so that cleanup runs as for Ctrl-C."""
 
 
+#: Set when SIGTERM arrives: a Terminated raised inside a weak-reference callback or a
+#: destructor is swallowed by Python, so the block it interrupted raises it again at its end.
+_TERMINATED = []
+
+
 def _terminate(signum, frame):
+    _TERMINATED.append(signum)
     raise Terminated()
 
 
@@ -47,8 +53,11 @@ def interrupts():
         yield
         return
     previous = signal.signal(signal.SIGTERM, _terminate)
+    _TERMINATED.clear()
     try:
         yield
+        if _TERMINATED:  # (the Terminated raised was swallowed where it landed)
+            raise Terminated()
     finally:
         signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 

@@ -226,6 +226,32 @@ class DamperLaw:
             np.sign(link) * np.maximum(np.abs(link) - self.friction_moment, 0.0) / self.regularisation_damping
         )
 
+    def slopes(self, angle, rate, slider=0.0) -> tuple:
+        """(dM/dtheta, dM/dv, dM/ds) at ``angle``, ``rate`` and ``slider`` (floats): the law's
+        Jacobian, for an implicit integration."""
+        if self.law == "friction-link":
+            return self.stiffness + self.link_stiffness, self.damping, -self.link_stiffness
+        if self.law == "bilinear":
+            return (
+                self.stiffness,
+                self.damping if abs(rate) <= self.relief_rate else self.damping_after_relief,
+                0.0,
+            )
+        if self.law == "friction":
+            sech = 1.0 / math.cosh(min(abs(rate) / self.regularisation_velocity, 350.0))
+            slope = self.damping + self.friction_moment / self.regularisation_velocity * sech * sech
+            return self.stiffness, slope, 0.0
+        if self.law == "tanh":
+            sech = 1.0 / math.cosh(min(abs(self.tanh_rate * rate), 350.0))
+            return self.stiffness, self.tanh_moment * self.tanh_rate * sech * sech, 0.0
+        return self.stiffness, self.damping, 0.0
+
+    def slider_slopes(self, angle, slider) -> tuple:
+        """(ds'/dtheta, ds'/ds) of the friction link's slider (zero while it sticks)."""
+        link = self.link_stiffness * (angle - slider)
+        rate = self.link_stiffness / self.regularisation_damping if abs(link) > self.friction_moment else 0.0
+        return rate, -rate
+
     def cycle(self, amplitude: float, frequency: float, points: int = 721):
         """The law over one steady cycle of theta = A cos(w t): (angle, rate, moment), each
         (points,), at ``amplitude`` [rad] and ``frequency`` [rad/s]. The friction link's

@@ -18,7 +18,8 @@ SMALL_MOTION_NOTE = (
     "this analysis is linear: each nonlinear lag damper enters at its small-motion values (its "
     "slope at rest: a bilinear damper's first slope, a friction damper's regularisation, a friction "
     "link stuck, a table's smallest amplitude with its loss at the reference frequency); how it "
-    "behaves at larger amplitudes is what its describing function (groundres damper) tells"
+    "behaves at larger amplitudes is what its describing function (groundres damper) and its limit "
+    "cycles (groundres cycles) tell"
 )
 
 
