@@ -372,7 +372,8 @@ def test_the_damper_command_draws_and_tabulates_every_law(tmp_path):
     "args, message",
     [
         (("hammond-1974",), "its blades have no [rotor.lag_damper] law"),
-        (("--amplitudes", "5:1"), "--amplitudes '5:1': must be 0 < START < STOP"),
+        (("--amplitudes", "5:1"), "--amplitudes '5:1': must be 1e-6 <= START < STOP <= 90"),
+        (("--amplitudes", "1e-320:1"), "--amplitudes '1e-320:1': must be 1e-6 <= START"),
         (("--amplitudes", "x"), "--amplitudes 'x': must be START:STOP"),
         (("--frequency", "-3"), "--frequency = -3.0: must be a finite number > 0"),
     ],
@@ -407,3 +408,87 @@ def test_studies_vary_a_law_key_and_fail_a_blade_s_law_whole():
     case = varied_case(data, {"rotor.lag_damper.relief_moment": 350.0}, "blade 2")
     assert [e and e.law.relief_moment for e in case.rotor.lag_laws] == [350.0, None, 350.0, 350.0]
     assert case.rotor.blades[1].lag_damping == 0.0
+
+
+@pytest.mark.parametrize("name", sorted(LAWS) + ["plain-friction", "undamped-linear", "table"])
+def test_the_damper_command_draws_every_law(tmp_path, name):
+    """(tanh, friction without a viscous part and a linear law without damping crashed the drawing:
+    the bilinear knee was computed for every law)."""
+    keys = {
+        "plain-friction": {"law": "friction", "friction_moment": 300.0, "regularisation_velocity": 0.01},
+        "undamped-linear": {"law": "linear", "damping": 0.0},
+        "table": {
+            "law": "table",
+            "amplitudes": [0.5, 1.0],
+            "storage_stiffness": [9.0e4, 6.0e4],
+            "loss_stiffness": [3.0e4, 3.6e4],
+            "reference_frequency": 3.0,
+        },
+    }.get(name, LAWS.get(name))
+    table = "\n".join(f"{k} = {v!r}".replace("'", '"') for k, v in keys.items()) + "\n"
+    text, _ = case_text("hammond-1974")
+    path = tmp_path / "laws.toml"
+    path.write_text(
+        text.replace("lag_damping = 4067.5           # [N m s/rad]", "") + "\n[rotor.lag_damper]\n" + table
+    )
+    result = _cli("damper", str(path), "--out", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "out" / "damper.png").exists()
+
+
+def test_a_table_law_is_the_same_damper_in_the_linear_analysis_and_in_its_describing_function():
+    """The linear analysis takes the table at its smallest amplitude, viscous at the reference
+    frequency; so does the describing function at any frequency (they disagreed: the cycles
+    said 'grows' where the linear analysis beside them said stable)."""
+    law = DamperLaw.from_keys(
+        {
+            "law": "table",
+            "amplitudes": [0.5, 1.0],
+            "storage_stiffness": [9.0e4, 6.0e4],
+            "loss_stiffness": [2.0e4, 2.0e4],
+            "reference_frequency": 1.0,
+        }
+    )
+    for w in (1.0, 6.2832, 40.0):
+        assert tuple(map(float, describing.equivalent(law, 1e-6, w))) == pytest.approx(
+            law.small_motion(), rel=1e-15
+        )
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (
+            "\n[limit_cycle]\namplitude_min = 5e-324\n",
+            "[limit_cycle] amplitude_min = 5e-324: must be a finite number from 1e-6 to 90",
+        ),
+        (
+            "\n[limit_cycle]\namplitude_max = 1e-300\n",
+            "[limit_cycle] amplitude_max = 1e-300: must be above amplitude_min",
+        ),
+        (
+            '\n[rotor.lag_damper]\nlaw = "bilinear"\ndamping = 1.0\nrelief_moment = 1.0\n'
+            "damping_after_relief = 1e308\n",
+            "damping_after_relief = 1e+308: must be at most 1e+12",
+        ),
+        (
+            '\n[rotor.lag_damper]\nlaw = "friction"\nfriction_moment = 1e6\n'
+            "regularisation_velocity = 1e-10\n",
+            "regularisation_velocity = 1e-10: gives a slope at rest of 1e+16",
+        ),
+        (
+            '\n[rotor.lag_damper]\nlaw = "table"\namplitudes = [0.5, 1.0]\nstorage_stiffness = [1.0, 1.0]\n'
+            "loss_stiffness = [1.0, 1.0]\nreference_frequency = -1.0\n",
+            "reference_frequency = -1.0: must be > 0",
+        ),
+        (
+            "\n[[rotor.blade]]\nindex = 2\nlag_damping = 100.0\n"
+            'lag_damper = { law = "tanh", tanh_moment = 1.0, tanh_rate = 1.0 }\n',
+            "index = 2: lag_damping = 100.0:",
+        ),
+    ],
+)
+def test_out_of_range_law_and_search_values_are_refused_naming_the_key(extra, message):
+    with pytest.raises(CaseError) as err:
+        _case("hammond-1974", NO_DAMPING if "rotor.lag_damper" in extra else {}, extra)
+    assert message in str(err.value)

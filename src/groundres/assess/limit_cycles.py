@@ -25,7 +25,9 @@ the body's coordinates in the same eigenvector.
 Identical blades with one law on every blade are solved by multiblade
 eigen-analysis of the equivalent system, batched over speeds and amplitudes:
 its form is exactly F0(Omega) + c dC(Omega) + k dK, linear in the blades' equivalent
-damping c and stiffness k.
+damping c and stiffness k. In air every equivalent system moves about one hover
+trim, the small-motion system's (the linear analysis's), so the form stays
+linear in k (:meth:`groundres.model.system.System.holding_trim_of`).
 """
 
 from __future__ import annotations
@@ -152,8 +154,12 @@ class EquivalentSystem:
         self.c_ref = max(c0, inertia * top * 1e-2, 1e-300)
         self.k_ref = max(k0, inertia * top * top * 1e-2, 1e-300)
 
+        trimmed = solver_for(case, Method.MULTIBLADE).system  # (in air: the small-motion trim, held)
+
         def solver(c, k):
-            return solver_for(replace(case, rotor=rotor.equivalent([c] * n, [k] * n)), Method.MULTIBLADE)
+            found = solver_for(replace(case, rotor=rotor.equivalent([c] * n, [k] * n)), Method.MULTIBLADE)
+            found.system.holding_trim_of(trimmed)
+            return found
 
         self.base = solver(0.0, 0.0)
         self.damped, self.sprung = solver(self.c_ref, 0.0), solver(0.0, self.k_ref)
@@ -175,7 +181,9 @@ def predict(case, speeds=None, searched=SEARCHED, per_decade: int = PER_DECADE) 
     amplitudes ``searched`` [rad] (module docstring)."""
     equivalent = EquivalentSystem(case)
     speeds = case.sweep.speeds if speeds is None else np.asarray(speeds, dtype=float)
-    speeds = speeds[speeds > 0]
+    speeds = speeds[speeds > 0]  # (at rest nothing turns: no cycle)
+    if not len(speeds):
+        return LimitCycles(speeds, np.array(searched, float), np.zeros((0, 2)))
     decades = math.log10(searched[1] / searched[0])
     amplitudes = np.geomspace(searched[0], searched[1], max(2, int(math.ceil(decades * per_decade)) + 1))
     forms = equivalent.directions(speeds)

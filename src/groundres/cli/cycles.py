@@ -72,6 +72,15 @@ def _print(console, found) -> None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))
     if worst is None and largest is None:
         console.print("No limit cycle within the amplitudes searched.")
+    loose = found.regularised()
+    if loose:
+        console.print(
+            plain(
+                f"Note: at {len(loose)} of the cycles the friction link's regularisation is above 0.05 "
+                "(c_reg A w / F): its slider slips that far above the ideal one the prediction assumes "
+                "(limit_cycles.json, link_regularisation)."
+            )
+        )
     poor = [c for c in p.cycles if c.poor]
     if poor:
         console.print(

@@ -77,8 +77,13 @@ def command(case, frequency, amplitudes, out, fmt):
     rows, report = [], {"frequency_unit": "rad/s", "amplitude_unit": "deg", "laws": []}
     for label, law, blade in entries:
         w = frequency if frequency is not None else _frequency(law, blade, speed)
+        if frequency is not None and not (math.isfinite(w) and 0 < w <= 1e9):
+            fail_user(f"--frequency = {shown(w)}: must be a finite number > 0, at most 1e9 [rad/s]")
         if not (math.isfinite(w) and w > 0):
-            fail_user(f"--frequency = {shown(w)}: must be a finite number > 0 [rad/s]")
+            fail_user(
+                f"{label}: the lag frequency at the reference speed is {w:.3g} rad/s (no lag spring or "
+                "hinge offset holds the blade); give the frequency of the motion with --frequency [rad/s]"
+            )
         c_eq, k_eq = describing.equivalent(law, grid, w)
         rows.append((label, law, w))
         report["laws"].append(
@@ -144,8 +149,8 @@ def _span(text: str) -> tuple[float, float]:
         low, high = (float(p) for p in parts)
     except ValueError:
         fail_user(f"--amplitudes {shown(text)}: must be START:STOP in deg, e.g. 0.01:20")
-    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high <= 180):
-        fail_user(f"--amplitudes {shown(text)}: must be 0 < START < STOP <= 180 [deg]")
+    if not (math.isfinite(low) and math.isfinite(high) and 1e-6 <= low < high <= 90):
+        fail_user(f"--amplitudes {shown(text)}: must be 1e-6 <= START < STOP <= 90 [deg]")
     return low, high
 
 

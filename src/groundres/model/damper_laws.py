@@ -68,6 +68,11 @@ UNITS = {
     "loss_stiffness": "N m/rad",
     "reference_frequency": "Hz",
 }
+#: Largest number a law may hold (damping, moment, stiffness, rate: far beyond any damper's; the
+#: describing functions square products of them).
+LARGEST = 1e12
+#: Largest amplitude a table may list [deg].
+LARGEST_AMPLITUDE = 90.0
 #: The keys that hold lists (the table law's), and the most entries a list may have.
 LIST_KEYS = ("amplitudes", "storage_stiffness", "loss_stiffness")
 MAX_TABLE = 200
@@ -132,6 +137,11 @@ class DamperLaw:
             else:
                 values[key] = _number(key, value)
         if law == "table":
+            hertz = values["reference_frequency"]
+            if not 0 < hertz <= LARGEST:  # (judged in the file's unit, before it becomes rad/s)
+                raise ParameterError(
+                    "reference_frequency", hertz, f"must be > 0 and at most {LARGEST:.0e} [Hz]"
+                )
             values["amplitudes"] = tuple(math.radians(a) for a in values["amplitudes"])
             values["reference_frequency"] = 2 * math.pi * values["reference_frequency"]
         return cls(law=law, **values)
@@ -140,11 +150,12 @@ class DamperLaw:
         if self.law not in LAWS:
             raise ParameterError("law", self.law, f"must be one of {list(LAWS)}")
         for key in UNITS:
-            if key in LIST_KEYS:
-                continue
-            value = getattr(self, key)
-            if not finite(value) or value < 0:
-                raise ParameterError(key, value, "must be a finite number >= 0")
+            values = getattr(self, key) if key in LIST_KEYS else (getattr(self, key),)
+            for value in values:
+                if not finite(value) or value < 0:
+                    raise ParameterError(key, value, "must be a finite number >= 0")
+                if value > LARGEST:
+                    raise ParameterError(key, value, f"must be at most {LARGEST:.0e}")
         required, _ = LAW_KEYS[self.law]
         for key in required:
             if key in _POSITIVE and key not in LIST_KEYS and not getattr(self, key) > 0:
@@ -155,16 +166,37 @@ class DamperLaw:
             )
         if self.law == "table":
             self._check_table()
+        damping, stiffness = self.small_motion()
+        if not (damping <= LARGEST and stiffness <= LARGEST):
+            key = {"friction": "regularisation_velocity", "tanh": "tanh_rate", "table": "reference_frequency"}
+            name = key.get(self.law, "damping")
+            raise ParameterError(
+                name,
+                getattr(self, name)
+                if name != "reference_frequency"
+                else self.reference_frequency / (2 * math.pi),
+                f"gives a slope at rest of {damping:.3g} N m s/rad, beyond {LARGEST:.0e}",
+            )
 
     def _check_table(self):
         a, k1, k2 = self.amplitudes, self.storage_stiffness, self.loss_stiffness
         if not 2 <= len(a) <= MAX_TABLE:
-            raise ParameterError("amplitudes", len(a), f"must list 2 to {MAX_TABLE} amplitudes")
+            raise ParameterError(
+                "amplitudes",
+                [round(math.degrees(x), 12) for x in a],
+                f"must list 2 to {MAX_TABLE} amplitudes",
+            )
         if len(k1) != len(a) or len(k2) != len(a):
             raise ParameterError(
                 "storage_stiffness" if len(k1) != len(a) else "loss_stiffness",
                 len(k1) if len(k1) != len(a) else len(k2),
                 f"must list one value per amplitude ({len(a)})",
+            )
+        if not a[-1] <= math.radians(LARGEST_AMPLITUDE):
+            raise ParameterError(
+                "amplitudes",
+                [round(math.degrees(x), 12) for x in a],
+                f"must be at most {LARGEST_AMPLITUDE} deg",
             )
         if not (a[0] > 0 and all(y > x for x, y in zip(a, a[1:]))):
             raise ParameterError(

@@ -23,10 +23,11 @@ depend on A and w through the rate amplitude V = A w only.
   "Sinusoidal excitation of a system with bilinear hysteresis"). The
   regularised slider slips at a moment F + c_reg s', above the ideal one's by
   about c_reg A w / F of it (:func:`link_regularisation`).
-* table: k_eq = K'(A) and c_eq = K''(A) / w, interpolated linearly in A and held at the
-  table's ends: the loss stiffness is taken as independent of frequency (an
-  elastomer's loss factor varies slowly with it), so the energy per cycle at
-  an amplitude is the measured one at any frequency.
+* table: k_eq = K'(A) and c_eq = K''(A) / w_ref, interpolated linearly in A and
+  held at the table's ends: the measured damper as a viscous one at its
+  reference frequency w_ref, where its energy per cycle is the measured one
+  (the same value the linear analysis takes at small motion, so that the two
+  agree; at other frequencies the energy scales with w).
 """
 
 from __future__ import annotations
@@ -126,14 +127,13 @@ def link_regularisation(law: DamperLaw, amplitude, frequency):
 
 
 def table(law: DamperLaw, amplitude, frequency):
-    """(c_eq, k_eq) of a table law (module docstring); amplitudes outside the table take its
-    end values (:func:`outside_table` says where)."""
+    """(c_eq, k_eq) of a table law (module docstring: viscous at the reference frequency, whatever
+    ``frequency``); amplitudes outside the table take its end values (:func:`outside_table`)."""
+    amplitude = np.asarray(amplitude, dtype=float)
     a = np.asarray(law.amplitudes)
     k_eq = np.interp(amplitude, a, np.asarray(law.storage_stiffness))
-    loss = np.interp(amplitude, a, np.asarray(law.loss_stiffness))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        c_eq = np.where(frequency != 0, loss / np.where(frequency != 0, np.abs(frequency), 1.0), np.inf)
-    return c_eq, k_eq
+    c_eq = np.interp(amplitude, a, np.asarray(law.loss_stiffness)) / law.reference_frequency
+    return c_eq * np.ones(np.shape(frequency)), k_eq * np.ones(np.shape(frequency))
 
 
 def outside_table(law: DamperLaw, amplitude):

@@ -324,9 +324,10 @@ class LimitCycleOptions:
     points: int = 100
 
     def __post_init__(self):
-        positive(self, "amplitude_min", "amplitude_max")
-        if not self.amplitude_max <= 90.0:
-            raise ParameterError("amplitude_max", self.amplitude_max, "must be at most 90 [deg]")
+        for key in ("amplitude_max", "amplitude_min"):
+            value = getattr(self, key)
+            if not (finite(value) and 1e-6 <= value <= 90.0):
+                raise ParameterError(key, value, "must be a finite number from 1e-6 to 90 [deg]")
         if not self.amplitude_min < self.amplitude_max:
             raise ParameterError(
                 "amplitude_min", self.amplitude_min, f"must be below amplitude_max ({self.amplitude_max})"

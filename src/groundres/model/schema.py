@@ -217,7 +217,7 @@ def _blade_law(index: int, own, layout, entry: dict):
     (``"failed"``, or a table: with ``law``, a law of its own; without, keys overriding the
     rotor's ``layout``)."""
     where = f"[[rotor.blade]] index = {index}:"
-    if "lag_damping" in entry and layout is not None:
+    if "lag_damping" in entry and (layout is not None or own is not None):
         raise CaseError(
             f"{where} lag_damping = {shown(entry['lag_damping'])}: the blades' dampers follow "
             '[rotor.lag_damper]; a failed one is lag_damper = "failed", another law a lag_damper table'
@@ -468,6 +468,12 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
 def _limit_cycle(data: dict) -> LimitCycleOptions:
     _check_table("limit_cycle", data)
     values = {k: (v if k == "points" else float(v)) for k, v in data.items()}
+    high = values.get("amplitude_max")
+    if "amplitude_min" not in values and high is not None and finite(high) and 0 < high <= 0.001:
+        raise CaseError(
+            f"[limit_cycle] amplitude_max = {shown(data['amplitude_max'])}: must be above amplitude_min "
+            "(0.001 deg unless given)"
+        )
     return _build("[limit_cycle] ", LimitCycleOptions, **values)
 
 

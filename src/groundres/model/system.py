@@ -304,6 +304,15 @@ class System:
             other._trims = self._trim_table()
         return other
 
+    def holding_trim_of(self, other: System) -> System:
+        """This system with the hover trims of ``other`` (in air; itself in vacuum): a rotor
+        whose lag dampers follow laws is trimmed once, with each law at its small-motion values,
+        and every equivalent system of the law (another damper and spring on the lag) moves
+        about that trim."""
+        if self.rotor.aero is not None:
+            self._trims = other._trim_table()
+        return self
+
     def lag_damping_split(self) -> System:
         """The equations without their working lag dampers, carrying dC/dc.
 

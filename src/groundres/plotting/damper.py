@@ -93,8 +93,12 @@ def _law_panel(ax, law, frequency, amplitudes, label):
         return
     top = float(amplitudes[-1]) * abs(frequency)
     # (the rate over which the law turns: its knee, or its regularisation's width)
-    turn = {"bilinear": law.relief_rate, "friction": law.regularisation_velocity}.get(law.law)
-    if law.law == "tanh":
+    turn = None
+    if law.law == "bilinear":
+        turn = law.relief_rate
+    elif law.law == "friction":
+        turn = law.regularisation_velocity
+    elif law.law == "tanh":
         turn = 1.0 / law.tanh_rate
     top = min(top, 5 * turn) if turn else top
     rate = np.linspace(-top, top, 1201)

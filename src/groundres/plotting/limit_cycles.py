@@ -14,6 +14,7 @@ import math
 import numpy as np
 from matplotlib.colors import ListedColormap
 
+from ..assess.limit_cycles import LARGE
 from ..model.mbc import unit_of
 from ..model.units import SPEED_UNITS
 from .titles import figure_title
@@ -76,8 +77,10 @@ def limit_cycle_figure(result, fig=None):
     ax.set_xlim(x[0], x[-1]) if len(x) > 1 else None
     ax.set_xlabel("rotor speed / reference speed [-]" if unit == "-" else f"rotor speed [{unit}]")
     ax.set_ylabel("blade lag amplitude A [deg]")
-    large = math.degrees(max(c.amplitude for c in p.cycles)) if p.cycles else None
-    ax.axhline(10.0, color="0.3", lw=0.8, ls=":") if large and large > 10.0 else None
+    if p.cycles and max(c.amplitude for c in p.cycles) > LARGE:
+        ax.axhline(
+            math.degrees(LARGE), color="0.3", lw=0.8, ls=":", label="beyond: angles too large for the model"
+        )
     ax.legend(fontsize=8, loc="lower left", framealpha=0.9)
     beside = "; beside: the linear analysis, dampers at small motion" if result.linear is not None else ""
     ax.set_title(f"Limit cycles (describing functions){beside}", fontsize=10)

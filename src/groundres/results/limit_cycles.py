@@ -14,9 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assess.limit_cycles import LARGE, POOR
+from ..model.describing import link_regularisation
 from ..model.mbc import unit_of
 from ..model.units import fmt_speed
 from .damper_laws import laws_block
+
+#: A friction link's regularisation (c_reg A w / F) beyond which its cycles are flagged.
+REGULARISED = 0.05
 
 #: Said with every limit-cycle result.
 NOTES = (
@@ -24,6 +28,8 @@ NOTES = (
     "the damper law is evaluated at); peak is the sum of all its components (half peak-to-peak)",
     f"second_component is the next largest component over the largest: beyond {POOR} the single-harmonic "
     "approximation of the describing function is poor there (poor_approximation)",
+    "a friction link's describing function is the ideal slider's: link_regularisation, c_reg A w / F, "
+    "bounds how far the regularised law's may differ (relative)",
     "the structure is linear (small angles): a cycle beyond "
     f"{math.degrees(LARGE):g} deg (large) and any growth 'without bound' mean 'until something not modelled "
     "stops it'",
@@ -119,11 +125,28 @@ class LimitCycleResult:
                     "large": c.large,
                     "equivalent_damping": c.equivalent_damping,
                     "equivalent_stiffness": c.equivalent_stiffness,
+                    **self._regularisation(c),
                 }
                 for c in p.cycles
             ],
             "notes": list(NOTES),
         }
+
+    def _regularisation(self, cycle) -> dict:
+        """A friction link's regularisation at ``cycle``: c_reg A w / F, by which its describing
+        function (the ideal slider's) may be off, relative (absent for other laws)."""
+        law = next((e.law for e in self.case.rotor.lag_laws if e is not None), None)
+        if law is None or not law.has_slider:
+            return {}
+        return {"link_regularisation": float(link_regularisation(law, cycle.amplitude, cycle.frequency))}
+
+    def regularised(self) -> list:
+        """The cycles of a friction link whose regularisation exceeds :data:`REGULARISED`."""
+        return [
+            c
+            for c in self.prediction.cycles
+            if self._regularisation(c).get("link_regularisation", 0) > REGULARISED
+        ]
 
     def branches(self) -> list:
         """The cycles joined over neighbouring speeds: [(stable, [cycles])], each branch the cycles

@@ -64,11 +64,13 @@ class NonlinearHistory:
 
 def structure(case) -> System:
     """The case's equations with every law's blade without its damper (its root spring kept),
-    in their mass unit."""
+    in their mass unit; in air about the hover trim of the laws at small motion."""
     rotor = case.rotor
     n = rotor.n_blades
     bare = rotor.equivalent([0.0] * n, [0.0] * n) if rotor.lag_laws else rotor
-    return System.in_mass_unit(bare, case.body)
+    # (in air, about the small-motion system's hover trim, as the linear analysis and the limit
+    # cycles: the laws move the blades about it)
+    return System.in_mass_unit(bare, case.body).holding_trim_of(System.in_mass_unit(rotor, case.body))
 
 
 def law_rate(case, speed: float) -> float:
