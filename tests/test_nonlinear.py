@@ -69,16 +69,16 @@ def test_a_stable_cycle_is_reached_from_below_and_above(progressive, factor):
 
 
 def test_an_unstable_cycle_is_a_threshold_bracketed_by_simulation():
+    """The threshold search starts the equations at 0.8 and 1.25 times the predicted unstable
+    cycle (the first decays, the second grows) and bisects twice: the bracket holds the
+    prediction (factor 1) to within the describing function's error."""
     case = _case('law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 200.0\n')
     (cycle,) = limit_cycles.predict(case, [SPEED]).cycles
     assert not cycle.stable
-    system = nonlinear.structure(case)
-    ends = {}
-    for factor in (0.8, 1.25):
-        history = nonlinear.integrate(case, SPEED, 20.0, limit_cycles.disturbance(system, cycle, factor))
-        ends[factor] = _settled(history, 0.1)[0][1]
-    assert ends[0.8] < 0.5 * 0.8 * cycle.amplitude
-    assert ends[1.25] > 10 * 1.25 * cycle.amplitude
+    decays, grows = limit_cycles.bracket_threshold(case, cycle, steps=2, duration=20.0)
+    assert 0.8 <= decays < grows <= 1.25
+    assert decays <= 1.02 and grows >= 0.98
+    assert grows / decays == pytest.approx(math.sqrt(math.sqrt(1.25 / 0.8)), rel=1e-12)
 
 
 def test_a_linear_law_integrates_as_the_linear_equations():

@@ -351,3 +351,38 @@ def disturbance(system, cycle: Cycle, factor: float = 1.0):
         q0[part] = basis @ q_mb[part]
         v0[part] = basis @ rate_mb[part] + speed * (d_basis @ q_mb[part])
     return q0, v0
+
+
+def bracket_threshold(
+    case, cycle: Cycle, low: float = 0.8, high: float = 1.25, steps: int = 4, duration=None
+):
+    """Bracket an unstable cycle (a threshold) by simulation: start the nonlinear equations
+    (:func:`groundres.solve.nonlinear.integrate`) along ``cycle``'s motion at factors of it and
+    bisect the factor between one that decays and one that grows, ``steps`` times.
+
+    Each run lasts ``duration`` [s] (default 60 periods of the cycle's rotating-frame frequency)
+    and is judged by the blade lag's largest component over its last fifth against its first
+    fifth. Returns (decays, grows): the factors bracketing the threshold, or None for an end that
+    did not behave as its side (the prediction is then off by more than the bracket).
+    """
+    from ..solve import nonlinear
+
+    system = nonlinear.structure(case)
+    duration = 120 * math.pi / cycle.frequency if duration is None else duration
+
+    def grows(factor: float) -> bool:
+        history = nonlinear.integrate(
+            case, cycle.speed, duration, disturbance(system, cycle, factor), points=4000
+        )
+        fifth = history.time[-1] / 5
+        start, end = history.time <= fifth, history.time >= 4 * fifth
+        first = nonlinear.components(history.time[start], history.lag(1)[start], 1)[0][1]
+        last = nonlinear.components(history.time[end], history.lag(1)[end], 1)[0][1]
+        return last > first
+
+    if grows(low) or not grows(high):
+        return (None if grows(low) else low), (high if grows(high) else None)
+    for _ in range(steps):
+        mid = math.sqrt(low * high)
+        low, high = (low, mid) if grows(mid) else (mid, high)
+    return low, high
