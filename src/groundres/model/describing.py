@@ -142,10 +142,3 @@ def outside_table(law: DamperLaw, amplitude):
     if law.law != "table":
         return np.zeros(amplitude.shape, bool)
     return (amplitude < law.amplitudes[0]) | (amplitude > law.amplitudes[-1])
-
-
-def energy_per_cycle(law: DamperLaw, amplitude, frequency):
-    """The energy [J] the law dissipates per cycle of lag amplitude ``amplitude`` [rad] at
-    ``frequency`` [rad/s]: pi c_eq w A^2."""
-    c_eq, _ = equivalent(law, amplitude, frequency)
-    return np.pi * c_eq * np.abs(np.asarray(frequency, float)) * np.asarray(amplitude, float) ** 2

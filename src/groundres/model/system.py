@@ -300,9 +300,7 @@ class System:
     def _damped(self, other: System) -> System:
         """``other``, which differs from this system only in its dampers, sharing its trims
         (dampers hold no load at the trim: the blades are still there)."""
-        if self.rotor.aero is not None:
-            other._trims = self._trim_table()
-        return other
+        return other.holding_trim_of(self)
 
     def holding_trim_of(self, other: System) -> System:
         """This system with the hover trims of ``other`` (in air; itself in vacuum): a rotor

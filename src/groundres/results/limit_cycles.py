@@ -11,8 +11,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..assess.limit_cycles import LARGE, POOR
 from ..model.describing import link_regularisation
 from ..model.mbc import unit_of
@@ -180,7 +178,3 @@ class LimitCycleResult:
         from ..plotting.limit_cycles import limit_cycle_figure
 
         return limit_cycle_figure(self, fig)
-
-    def growth_sign(self) -> np.ndarray:
-        """+1 where the equivalent system grows, -1 where it decays, over (speeds, amplitudes)."""
-        return np.sign(self.prediction.growth)

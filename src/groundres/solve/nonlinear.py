@@ -33,7 +33,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from ..model.system import System
-from .simulate import fastest_rate, harmonic_matrices
+from .simulate import at_azimuth, fastest_rate, harmonic_matrices
 
 #: The law's rate over the structure's beyond which the integration is implicit.
 STIFF_RATIO = 10.0
@@ -101,12 +101,16 @@ class Equations:
             (names.index(f"lag{k + 1}"), e.law, k) for k, e in enumerate(case.rotor.lag_laws) if e is not None
         ]
         self.sliders = [(i, law, k) for i, law, k in self.laws if law.has_slider]
+        for _, law, k in self.laws:
+            if not law.simulable:
+                raise ValueError(
+                    f"blade {k + 1}'s lag damper is a table of measured properties, which gives no "
+                    "moment in time (use a friction link)"
+                )
         self.scale = system.mass_unit.from_si(1.0)  # (a moment [N m] in the equations' mass unit)
 
     def _at(self, t):
-        a = self.speed * t
-        w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
-        return np.tensordot(w, self.mats, axes=(0, 1))
+        return at_azimuth(self.mats, self.speed * t)
 
     def rhs(self, t, x):
         n = self.n

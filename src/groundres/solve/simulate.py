@@ -94,6 +94,14 @@ def harmonic_matrices(system: System, speed: float) -> np.ndarray:
     return np.einsum("hj,gjab->ghab", np.linalg.inv(basis), values)
 
 
+def at_azimuth(mats, azimuth: float):
+    """Mass, damping and stiffness (3, n, n) at blade 1's ``azimuth`` [rad] from their harmonics
+    (:func:`harmonic_matrices`)."""
+    a = azimuth
+    w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
+    return np.tensordot(w, mats, axes=(0, 1))
+
+
 def integrate(
     system: System,
     speed: float,
@@ -166,9 +174,7 @@ def integrate(
         if progress is not None and t >= reached[0]:
             reached[0] = t + step
             progress(min(t, duration), duration)
-        a = speed * t
-        w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
-        m, c, k = np.tensordot(w, mats, axes=(0, 1))
+        m, c, k = at_azimuth(mats, speed * t)
         q, v = x[:n], x[n:]
         return np.concatenate([v, np.linalg.solve(m, -(c @ v + k @ q))]) - growth * x
 
@@ -289,8 +295,7 @@ def fastest_rate(system: System, speed: float, probes: int = 8) -> float:
             return float("inf")
         n, fastest = system.size, 2.0 * speed
         for a in 2 * np.pi * np.arange(probes) / probes:
-            w = np.array([1.0, np.cos(a), np.sin(a), np.cos(2 * a), np.sin(2 * a)])
-            m, c, k = np.tensordot(w, mats, axes=(0, 1))
+            m, c, k = at_azimuth(mats, a)
             state = np.block(
                 [[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]]
             )
