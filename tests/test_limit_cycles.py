@@ -97,14 +97,69 @@ def test_bilinear_cycle_is_where_the_saturation_function_meets_the_critical_damp
     assert found.verdict(0) == (SETTLES if stable else THRESHOLD)
 
 
-def test_a_failed_or_dissimilar_damper_is_refused_until_floquet_cycles_exist():
-    text, source = case_text("hammond-1974")
-    text = text.replace("lag_damping = 4067.5           # [N m s/rad]", "")
-    text += '\n[rotor.lag_damper]\nlaw = "tanh"\ntanh_moment = 400.0\ntanh_rate = 10.0\n'
-    text += '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
-    case = parse_case(tomllib.loads(text), source, text)
-    with pytest.raises(NotImplementedError, match="Floquet"):
-        limit_cycles.predict(case, [SPEED])
+# -- blades that differ: the Floquet route ------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "law",
+    [
+        'law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 406.75\n',
+        'law = "friction-link"\nfriction_moment = 300.0\nlink_stiffness = 2.0e4\n'
+        "regularisation_damping = 5.0\ndamping = 500.0\n",
+    ],
+)
+def test_the_floquet_route_finds_the_multiblade_route_s_cycles_on_identical_blades(law):
+    """Two routes to one answer: the Floquet analysis of the periodic equations with each blade at
+    its own amplitude (the route of a failed damper) and the multiblade eigen-analysis share only
+    the case and the describing functions. On identical blades every blade moves alike and both
+    find the same cycles, to the Floquet exponents' accuracy (the bracket of 1e-9 in log amplitude,
+    and the periodic eigenvector's harmonics). The friction link also runs through the stiffness
+    directions of the Floquet kernel."""
+    case = _case(law)
+    speeds = np.array([200.0, 264.34, 330.0]) * RPM
+    eigen = limit_cycles.predict(case, speeds)
+    floquet = limit_cycles.predict(case, speeds, periodic=True)
+    assert eigen.cycles and len(eigen.cycles) == len(floquet.cycles)
+    for a, b in zip(eigen.cycles, floquet.cycles):
+        assert (a.speed, a.stable) == (b.speed, b.stable)
+        assert b.amplitude == pytest.approx(a.amplitude, rel=1e-7)
+        assert b.frequency == pytest.approx(a.frequency, rel=1e-8)
+        assert b.nonrotating_frequency == pytest.approx(a.nonrotating_frequency, rel=1e-8)
+        assert b.peak == pytest.approx(a.peak, rel=1e-6)
+        assert b.second_component == pytest.approx(a.second_component, rel=1e-5, abs=1e-9)
+        for dof in a.hub:
+            assert b.hub[dof] == pytest.approx(a.hub[dof], rel=1e-6)
+        assert [x.amplitude for x in b.blades] == pytest.approx([a.amplitude] * 4, rel=1e-7)
+        assert b.equivalent_damping == pytest.approx(a.equivalent_damping, rel=1e-6)
+        assert b.equivalent_stiffness == pytest.approx(a.equivalent_stiffness, rel=1e-6, abs=1e-6)
+        # the same motion: the starting states agree once their arbitrary phase is set alike
+        phase = np.vdot(a.start, b.start) / abs(np.vdot(a.start, b.start))
+        assert np.abs(b.start - phase * a.start).max() <= 1e-6 * np.abs(a.start).max()
+
+
+def test_a_failed_damper_s_blade_swings_most_and_each_blade_has_its_own_amplitude():
+    """Blade 1 without its relief valve: its neighbours (blades 2 and 4, mirror images about it)
+    swing alike, blade 3 differently, and the cycle's amplitude is blade 1's. Each working blade's
+    damper is the describing function at its own amplitude and frequency."""
+    from groundres.model.describing import equivalent
+
+    case = _case(
+        'law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 406.75\n'
+        '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
+    )
+    law = case.rotor.lag_laws[1].law
+    found = limit_cycles.predict(case, [330.0 * RPM])
+    (cycle,) = found.cycles
+    assert not cycle.stable and cycle.dissimilar
+    one, two, three, four = cycle.blades
+    assert cycle.amplitude == pytest.approx(one.amplitude, rel=1e-14)
+    assert one.amplitude > 1.2 * max(two.amplitude, three.amplitude)
+    assert two.amplitude == pytest.approx(four.amplitude, rel=1e-8)
+    assert abs(two.amplitude - three.amplitude) > 0.05 * two.amplitude
+    assert one.damping is None
+    for blade in (two, three, four):
+        c, k = equivalent(law, blade.amplitude, blade.frequency)
+        assert blade.damping == pytest.approx(float(c), rel=1e-7)
 
 
 # -- the pipeline and groundres cycles ----------------------------------------------------------
@@ -161,11 +216,6 @@ def test_groundres_cycles_writes_the_diagram_the_json_and_the_threshold_in_words
     "law, extra, message",
     [
         ('law = "linear"\ndamping = 4067.5\n', "", "limit cycles need a nonlinear lag damper law"),
-        (
-            'law = "tanh"\ntanh_moment = 400.0\ntanh_rate = 10.0\n',
-            '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n',
-            "need the Floquet analysis of the equivalent system",
-        ),
     ],
 )
 def test_groundres_cycles_refuses_what_it_cannot_predict_with_exit_2(tmp_path, law, extra, message):

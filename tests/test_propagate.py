@@ -5,6 +5,7 @@ by the Schur complement against a dense solve, and the lag damping set per
 speed against a system rebuilt with it."""
 
 import os
+from dataclasses import replace
 from importlib import resources
 
 import numpy as np
@@ -108,6 +109,51 @@ def test_lag_damping_per_speed_equals_a_system_rebuilt_with_it():
         alone = exponents.solve(system.with_lag_damping(c[i]), w[i : i + 1], harmonics=0, sym=sym)
         np.testing.assert_allclose(
             np.sort_complex(ours.multiplier[i]), np.sort_complex(alone.multiplier[0]), atol=1e-9
+        )
+
+
+def test_per_blade_damping_and_stiffness_directions_equal_a_rebuilt_system():
+    """A nonlinear damper's equivalent system sets each blade's damping and spring per point:
+    the split system with one damping and one stiffness direction per blade gives the
+    transition matrices (compiled and NumPy) and the roots at rest of systems rebuilt with
+    those values."""
+    system, _ = shipped_system("hammond-1974")
+    rotor = system.rotor
+    n = rotor.n_blades
+
+    def rebuilt(c, k):
+        blades = tuple(
+            replace(b, lag_damping=float(c[j]), lag_stiffness=b.lag_stiffness + float(k[j]))
+            for j, b in enumerate(rotor.blades)
+        )
+        return System(replace(rotor, blades=blades), system.body)
+
+    zero = rebuilt([0.0] * n, [0.0] * n)
+    unit = np.eye(n)
+    split = zero.split_damping(
+        [rebuilt(unit[j], [0.0] * n) for j in range(n)], [rebuilt([0.0] * n, unit[j]) for j in range(n)]
+    )
+    assert split.direction_halves == (1,) * n + (0,) * n
+    w = np.array([0.0, 12.0, 30.0])
+    values = np.array([[0.0, 1500.0, 4067.5, 9000.0], [3000.0, 0.0, 200.0, 4067.5], [10.0, 20.0, 0.0, 5.0]])
+    springs = np.array([[0.0, 2e4, 5e5, 1e3], [1e5, 0.0, 0.0, 3e4], [7e4, 7e4, 0.0, 1e6]])
+    both = np.concatenate([values, springs], axis=1)
+    moving = slice(1, 3)
+    for kernel in (True, False):
+        each = transition.transition(split, w[moving], 2 * np.pi, 64, damping=both[moving], compiled=kernel)[
+            0
+        ]
+        for i, row in zip(range(1, 3), range(2)):
+            alone = rebuilt(values[i], springs[i])
+            rebuilt_phi = transition.transition(alone, w[i : i + 1], 2 * np.pi, 64, compiled=False)[0]
+            assert relative(each[row : row + 1], rebuilt_phi).max() < 1e-12
+    sym = exponents.symmetry(rebuilt(np.arange(n), [0.0] * n))  # (the full period)
+    ours = exponents.solve(split, w, harmonics=0, damping=both, sym=sym)
+    for i in range(3):
+        alone = exponents.solve(rebuilt(values[i], springs[i]), w[i : i + 1], harmonics=0, sym=sym)
+        scale = np.abs(alone.exponent[0]).max()
+        np.testing.assert_allclose(
+            np.sort_complex(ours.exponent[i]), np.sort_complex(alone.exponent[0]), atol=1e-9 * scale
         )
 
 

@@ -323,11 +323,14 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
 
     ``linear``: also the linear analysis (the laws at small motion), drawn beside the cycles.
 
+    Identical blades with one law are solved by multiblade eigen-analysis of the equivalent
+    system; blades that differ (a failed damper, different laws, two blades) by Floquet analysis,
+    each blade's law at its own amplitude (:mod:`groundres.assess.periodic_cycles`).
+
     Raises
     ------
     CaseError
-        A case without a nonlinear law, or one whose blades or laws differ (their cycles need a
-        Floquet analysis of the equivalent system, not built yet).
+        A case without a nonlinear law, or whose Floquet analysis the model cannot resolve.
 
     Examples
     --------
@@ -340,10 +343,7 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
     speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
     if progress is not None:
         progress("limit cycles", 0, None)
-    try:
-        prediction = predict(case, speeds, searched=options.searched)
-    except NotImplementedError as err:
-        raise CaseError(f"[rotor.lag_damper]: {err}") from None
+    prediction = predict(case, speeds, searched=options.searched)
     if progress is not None:
         progress("limit cycles", 1, 1)
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None

@@ -27,7 +27,11 @@ eigen-analysis of the equivalent system, batched over speeds and amplitudes:
 its form is exactly F0(Omega) + c dC(Omega) + k dK, linear in the blades' equivalent
 damping c and stiffness k. In air every equivalent system moves about one hover
 trim, the small-motion system's (the linear analysis's), so the form stays
-linear in k (:meth:`groundres.model.system.System.holding_trim_of`).
+linear in k (:meth:`groundres.model.system.System.holding_trim_of`). Blades that
+differ (a failed damper, different laws, two blades) are solved by Floquet
+analysis, each blade at its own amplitude
+(:mod:`groundres.assess.periodic_cycles`); both hand the same search below
+g(a) at the amplitude a of the blade that moves most.
 """
 
 from __future__ import annotations
@@ -41,6 +45,7 @@ from ..methods import Method
 from ..model import describing, mbc
 from ..solve import modal
 from ..solve.solvers import solver_for
+from .cycle_shapes import Cycle, blade_spectra, make_cycle
 
 #: Blade lag amplitudes searched by default [rad]: 0.001 to 30 deg.
 SEARCHED = (math.radians(0.001), math.radians(30.0))
@@ -54,39 +59,6 @@ SLOWEST = 1e-3
 #: Most steps of the Illinois method on log amplitude, and the bracket [log] at which it stops.
 SECANT_STEPS = 60
 BRACKET = 1e-13
-#: Second component over the first beyond which the single-harmonic approximation is poor.
-POOR = 0.2
-#: Cycles beyond this blade amplitude leave the small-angle structure [rad].
-LARGE = math.radians(10.0)
-
-
-@dataclass
-class Cycle:
-    """One limit cycle at one rotor speed (module docstring); SI units, angles in rad."""
-
-    speed: float
-    amplitude: float
-    stable: bool
-    frequency: float
-    nonrotating_frequency: float
-    peak: float
-    hub: dict
-    second_component: float
-    equivalent_damping: float
-    equivalent_stiffness: float
-    #: The motion's complex amplitudes on the multiblade coordinates (SI: m, rad), scaled to the
-    #: cycle: q(t) = Re(vector exp(i nonrotating_frequency t)).
-    vector: np.ndarray = field(default=None, repr=False)
-
-    @property
-    def poor(self) -> bool:
-        """Whether the single-harmonic approximation is poor here (:data:`POOR`)."""
-        return self.second_component > POOR
-
-    @property
-    def large(self) -> bool:
-        """Whether the cycle is beyond the small angles the structure assumes (:data:`LARGE`)."""
-        return self.peak > LARGE
 
 
 @dataclass
@@ -135,17 +107,14 @@ class EquivalentSystem:
     """The equations of ``case`` with every law replaced by a linear damper of damping c and
     stiffness k (SI), exactly F0 + c dC + k dK at any speeds (module docstring)."""
 
+    #: Amplitudes of the scan per decade, and the bracket [log] the search stops at.
+    per_decade, bracket = PER_DECADE, BRACKET
+
     def __init__(self, case):
         rotor = case.rotor
-        laws = [e.law if e is not None else None for e in rotor.lag_laws]
-        if not laws or any(law is None for law in laws) or len(set(laws)) != 1 or not rotor.identical:
-            raise NotImplementedError(
-                "limit cycles of dissimilar blades (a failed damper, different laws) need the Floquet "
-                "analysis of the equivalent system, which is not built yet"
-            )
-        if rotor.n_blades < 3:
-            raise NotImplementedError("limit cycles of a two-bladed rotor need the Floquet analysis")
-        self.case, self.law = case, laws[0]
+        if not multiblade_applies(case):
+            raise ValueError("the multiblade route needs identical blades (N >= 3) with one law")
+        self.case, self.law = case, rotor.lag_laws[0].law
         n = rotor.n_blades
         c0, k0 = self.law.small_motion()
         inertia = rotor.blades[0].blade_inertia
@@ -165,6 +134,7 @@ class EquivalentSystem:
         self.damped, self.sprung = solver(self.c_ref, 0.0), solver(0.0, self.k_ref)
         self.system = self.base.system
         self.blocks = None
+        self.speeds = self.forms = None
 
     def directions(self, speeds):
         """(F0, dC, dK) at ``speeds``, each (3, n_s, n, n) in the equations' mass unit per SI unit."""
@@ -175,36 +145,162 @@ class EquivalentSystem:
             self.blocks = modal.coupling_blocks(*(f0 + self.c_ref * d_c + self.k_ref * d_k))
         return f0, d_c, d_k
 
+    def prepare(self, speeds):
+        """Hold the forms at ``speeds`` [rad/s] for :meth:`neutrality`."""
+        self.speeds, self.forms = speeds, self.directions(speeds)
 
-def predict(case, speeds=None, searched=SEARCHED, per_decade: int = PER_DECADE) -> LimitCycles:
+    def scan(self, amplitudes):
+        """g at every speed held (:meth:`prepare`) and every amplitude, (n_s, n_a), all at once."""
+        n_s = len(self.speeds)
+        at = np.repeat(np.arange(n_s), len(amplitudes))
+        return self.neutrality(at, np.tile(amplitudes, n_s))[0].reshape(n_s, len(amplitudes))
+
+    def neutrality(self, at, amplitudes):
+        """g at the points (speed index ``at``, blade amplitude [rad]), the law's frequency
+        iterated to the root's own (each point until its own frequency settles); and the state
+        of the last step at every point (roots, vectors, spectra, the equivalent damper)."""
+        law, speeds = self.law, self.speeds
+        # (from the blade's own lag frequency in the rotating frame)
+        blade = self.case.rotor.blades[0]
+        frequency = np.maximum(blade.lag_frequency(speeds[at]) * speeds[at], SLOWEST * speeds[at])
+        state = None
+        active = np.arange(len(at))
+        for _ in range(ITERATIONS):
+            f0, d_c, d_k = (x[:, at[active]] for x in self.forms)
+            c, k = describing.equivalent(law, amplitudes[active], frequency[active])
+            mats = f0 + c[None, :, None, None] * d_c + k[None, :, None, None] * d_k
+            found = self._least_stable(mats, speeds[at[active]])
+            if state is None:
+                state = found
+            else:
+                for key, value in found.items():
+                    state[key][active] = value
+            # (a root without oscillation leaves the hysteretic laws' c_eq = W / (pi w A^2)
+            # unbounded: the law is taken at a slow oscillation instead)
+            new = np.maximum(found["frequency"], SLOWEST * speeds[at[active]])
+            settled = np.abs(new - frequency[active]) <= FREQUENCY_RTOL * new
+            frequency[active] = new
+            active = active[~settled]
+            if not len(active):
+                break
+        state["damping"], state["stiffness"] = describing.equivalent(law, amplitudes, frequency)
+        return state["root"].real, state
+
+    def _least_stable(self, mats, speeds) -> dict:
+        """The root with lag motion of largest real part at every point, with its blade spectra."""
+        system = self.system
+        solution = modal.solve(*mats, self.blocks, system.integrals)
+        coords = system.multiblade_coordinates()
+        lag = np.array([c.kind == "lag" for c in coords])
+        values, vectors = solution.eigenvalue, solution.vector
+        has_lag = np.abs(vectors[:, lag, :]).max(axis=1) > 1e-6 * np.abs(vectors).max(axis=1)
+        upper = values.imag >= 0
+        score = np.where(has_lag & upper, values.real, -np.inf)
+        j = np.argmax(score, axis=1)
+        rows = np.arange(len(j))
+        root, vector = values[rows, j], vectors[rows, :, j]
+        spectra = blade_spectra(system, vector[:, :, None], np.zeros(1, int), root.imag, speeds)
+        top = np.argmax(spectra[0], axis=1)
+        return {
+            "root": root,
+            "vector": vector,
+            "spectra": np.stack(spectra, axis=1),  # (m, 4, N)
+            "frequency": spectra[1][rows, top],
+            "unit_amplitude": spectra[0][rows, top],
+        }
+
+    def cycle(self, speed, amplitude, stable, state, j) -> Cycle:
+        """The cycle at point ``j`` of the last state, scaled to ``amplitude``."""
+        system = self.system
+        root, vector = state["root"][j], state["vector"][j]
+        n = system.n_blades
+        return make_cycle(
+            system,
+            speed,
+            amplitude,
+            stable,
+            root,
+            tuple(state["spectra"][j]),
+            vector[:, None],
+            _blade_state(system, vector, root.imag, speed),
+            [True] * n,
+            np.full(n, state["damping"][j]),
+            np.full(n, state["stiffness"][j]),
+        )
+
+
+def multiblade_applies(case) -> bool:
+    """Whether the multiblade route solves ``case``'s limit cycles: three blades or more, alike,
+    each with the same law."""
+    rotor = case.rotor
+    laws = [e.law if e is not None else None for e in rotor.lag_laws]
+    return bool(laws) and None not in laws and len(set(laws)) == 1 and rotor.identical and rotor.n_blades >= 3
+
+
+def _blade_state(system, vector, frequency, speed):
+    """Blade-coordinate displacements and rates at t = 0 (blade 1 at azimuth 0), complex, of a
+    multiblade motion ``vector`` exp(i ``frequency`` t) at rotor ``speed``."""
+    n_b = system.n_blades
+    rate = 1j * frequency * vector
+    basis, d_basis, _ = mbc.multiblade_basis(n_b, 0.0)
+    n_body = system.n_body
+    q0, v0 = np.zeros(system.size, complex), np.zeros(system.size, complex)
+    q0[:n_body], v0[:n_body] = vector[:n_body], rate[:n_body]
+    for j in range(len(system.blade_kinds)):
+        part = slice(n_body + j * n_b, n_body + (j + 1) * n_b)
+        q0[part] = basis @ vector[part]
+        v0[part] = basis @ rate[part] + speed * (d_basis @ vector[part])
+    return np.concatenate([q0, v0])
+
+
+def equivalent_of(case, periodic: bool | None = None):
+    """The equivalent system whose roots :func:`predict` searches: multiblade where it applies,
+    else Floquet (:mod:`groundres.assess.periodic_cycles`); ``periodic`` True asks for Floquet
+    (a second route on identical blades)."""
+    if not periodic and multiblade_applies(case):
+        return EquivalentSystem(case)
+    from .periodic_cycles import PeriodicEquivalent
+
+    return PeriodicEquivalent(case)
+
+
+def predict(
+    case, speeds=None, searched=SEARCHED, per_decade: int | None = None, periodic: bool | None = None
+) -> LimitCycles:
     """Limit cycles of ``case`` at ``speeds`` [rad/s] (default: the sweep's) between the blade lag
-    amplitudes ``searched`` [rad] (module docstring)."""
-    equivalent = EquivalentSystem(case)
+    amplitudes ``searched`` [rad] of the blade that moves most, ``per_decade`` amplitudes a decade
+    in the scan (default: the route's own), by the route :func:`equivalent_of` picks (module
+    docstring)."""
+    equivalent = equivalent_of(case, periodic)
+    per_decade = equivalent.per_decade if per_decade is None else per_decade
     speeds = case.sweep.speeds if speeds is None else np.asarray(speeds, dtype=float)
     speeds = speeds[speeds > 0]  # (at rest nothing turns: no cycle)
     if not len(speeds):
         return LimitCycles(speeds, np.array(searched, float), np.zeros((0, 2)))
     decades = math.log10(searched[1] / searched[0])
     amplitudes = np.geomspace(searched[0], searched[1], max(2, int(math.ceil(decades * per_decade)) + 1))
-    forms = equivalent.directions(speeds)
-    at = np.repeat(np.arange(len(speeds)), len(amplitudes))
-    flat = np.tile(amplitudes, len(speeds))
-    growth, _ = _neutrality(equivalent, forms, speeds, at, flat)
-    growth = growth.reshape(len(speeds), len(amplitudes))
-    # brackets of a sign change, refined by bisection on log amplitude, all together
+    equivalent.prepare(speeds)
+    growth = equivalent.scan(amplitudes)
+    # brackets of a sign change, refined by the Illinois method on log amplitude, all together
     s_i, a_i = np.nonzero(np.sign(growth[:, :-1]) * np.sign(growth[:, 1:]) < 0)
+    # (a scan may settle its points only as far as their sign needs: each bracket's ends again,
+    # in full, and only the brackets that still change sign kept)
+    g_low = equivalent.neutrality(s_i, amplitudes[a_i])[0] if len(s_i) else np.zeros(0)
+    g_high = equivalent.neutrality(s_i, amplitudes[a_i + 1])[0] if len(s_i) else np.zeros(0)
+    kept = np.sign(g_low) * np.sign(g_high) < 0
+    s_i, a_i, g_low, g_high = s_i[kept], a_i[kept], g_low[kept], g_high[kept]
     low, high = np.log(amplitudes[a_i]), np.log(amplitudes[a_i + 1])
-    below = growth[s_i, a_i] > 0  # (grows below: a stable cycle)
-    g_low, g_high = growth[s_i, a_i], growth[s_i, a_i + 1]
-    side = np.zeros(len(s_i), int)  # (the Illinois method: the end kept twice in a row is halved)
+    below = g_low > 0  # (grows below: a stable cycle)
+    side = np.zeros(len(s_i), int)  # (the end kept twice in a row is halved)
+    tight = equivalent.bracket
     for _ in range(SECANT_STEPS if len(s_i) else 0):
-        wide = high - low > BRACKET * max(1.0, float(np.abs(np.concatenate([low, high])).max()))
+        wide = high - low > tight * max(1.0, float(np.abs(np.concatenate([low, high])).max()))
         if not wide.any():
             break
         mid = np.where(g_low != g_high, (low * g_high - high * g_low) / (g_high - g_low), 0.5 * (low + high))
         mid = np.clip(mid, low + 0.01 * (high - low), high - 0.01 * (high - low))
         mid = np.where(wide, mid, 0.5 * (low + high))
-        g, _ = _neutrality(equivalent, forms, speeds, s_i, np.exp(mid))
+        g, _ = equivalent.neutrality(s_i, np.exp(mid))
         same = (g > 0) == below  # (mid on the low end's side)
         low, g_low = np.where(same, mid, low), np.where(same, g, np.where(side == -1, 0.5 * g_low, g_low))
         high, g_high = np.where(same, high, mid), np.where(same, np.where(side == 1, 0.5 * g_high, g_high), g)
@@ -212,145 +308,18 @@ def predict(case, speeds=None, searched=SEARCHED, per_decade: int = PER_DECADE) 
     result = LimitCycles(speeds, amplitudes, growth)
     if len(s_i):
         found = np.exp(0.5 * (low + high))
-        _, state = _neutrality(equivalent, forms, speeds, s_i, found)
+        _, state = equivalent.neutrality(s_i, found)
         result.cycles = [
-            _cycle(equivalent, speeds[s], a, b, state, j)
-            for j, (s, a, b) in enumerate(zip(s_i, found, below))
+            equivalent.cycle(speeds[s], a, b, state, j) for j, (s, a, b) in enumerate(zip(s_i, found, below))
         ]
     return result
-
-
-def _neutrality(equivalent, forms, speeds, at, amplitudes):
-    """g at the points (speed index ``at``, blade amplitude), the law's frequency iterated to
-    the root's own (each point until its own frequency settles); and the state of the last
-    step at every point (roots, vectors, components, frequencies)."""
-    law = equivalent.law
-    # (from the blade's own lag frequency in the rotating frame)
-    blade = equivalent.case.rotor.blades[0]
-    frequency = np.maximum(blade.lag_frequency(speeds[at]) * speeds[at], SLOWEST * speeds[at])
-    state = None
-    active = np.arange(len(at))
-    for _ in range(ITERATIONS):
-        f0, d_c, d_k = (x[:, at[active]] for x in forms)
-        c, k = describing.equivalent(law, amplitudes[active], frequency[active])
-        mats = f0 + c[None, :, None, None] * d_c + k[None, :, None, None] * d_k
-        found = _least_stable(equivalent, mats, speeds[at[active]])
-        if state is None:
-            state = found
-        else:
-            for key, value in found.items():
-                state[key][active] = value
-        # (a root without oscillation leaves the hysteretic laws' c_eq = W / (pi w A^2) unbounded:
-        # the law is taken at a slow oscillation instead)
-        new = np.maximum(found["frequency"], SLOWEST * speeds[at[active]])
-        settled = np.abs(new - frequency[active]) <= FREQUENCY_RTOL * new
-        frequency[active] = new
-        active = active[~settled]
-        if not len(active):
-            break
-    state["damping"], state["stiffness"] = describing.equivalent(law, amplitudes, frequency)
-    return state["root"].real, state
-
-
-def _least_stable(equivalent, mats, speeds) -> dict:
-    """The root with lag motion of largest real part at every point, with its blade components."""
-    system = equivalent.system
-    solution = modal.solve(*mats, equivalent.blocks, system.integrals)
-    coords = system.multiblade_coordinates()
-    lag = np.array([c.kind == "lag" for c in coords])
-    values, vectors = solution.eigenvalue, solution.vector
-    has_lag = np.abs(vectors[:, lag, :]).max(axis=1) > 1e-6 * np.abs(vectors).max(axis=1)
-    upper = values.imag >= 0
-    score = np.where(has_lag & upper, values.real, -np.inf)
-    j = np.argmax(score, axis=1)
-    rows = np.arange(len(j))
-    root, vector = values[rows, j], vectors[rows, :, j]
-    amplitude, frequency, second, peak = blade_components(system, vector, root.imag, speeds)
-    return {
-        "root": root,
-        "vector": vector,
-        "frequency": frequency,
-        "unit_amplitude": amplitude,
-        "second": second,
-        "peak": peak,
-    }
-
-
-def blade_components(system, vector, frequency, speeds):
-    """Blade lag in the rotating frame of multiblade eigenvectors ``vector`` (m, n) of roots of
-    nonrotating ``frequency`` (m,) [rad/s] at ``speeds`` (m,): the largest component's
-    amplitude and frequency, the second largest over the largest, and the peak (the sum of all
-    components), for the blade that moves most (the largest component's)."""
-    coords = system.multiblade_coordinates()
-    n_b = system.n_blades
-    index = {c.name: i for i, c in enumerate(coords) if c.kind == "lag"}
-    phase = 2 * np.pi * np.arange(n_b) / n_b  # (blade k's azimuth offset)
-    parts, freqs = [], []
-    common = vector[:, index["0"]][:, None] * np.ones(n_b)
-    if "d" in index:
-        common = common + vector[:, index["d"]][:, None] * (-1.0) ** np.arange(n_b)
-    parts.append(common)
-    freqs.append(np.abs(frequency))
-    for name, i in index.items():
-        if not name.endswith("c"):
-            continue
-        n = int(name[:-1])
-        v_c, v_s = vector[:, i][:, None], vector[:, index[f"{n}s"]][:, None]
-        turn = np.exp(1j * n * phase)
-        parts.append(0.5 * (v_c - 1j * v_s) * turn)
-        freqs.append(np.abs(frequency + n * speeds))
-        parts.append(0.5 * (v_c + 1j * v_s) * np.conj(turn))
-        freqs.append(np.abs(frequency - n * speeds))
-    size = np.abs(np.stack(parts, axis=-1))  # (m, blades, components)
-    freqs = np.stack(freqs, axis=-1)  # (m, components)
-    order = np.sort(size, axis=-1)
-    largest, second = order[..., -1], order[..., -2] if size.shape[-1] > 1 else 0 * order[..., -1]
-    blade = np.argmax(largest, axis=1)
-    rows = np.arange(len(blade))
-    top = np.argmax(size[rows, blade], axis=-1)
-    amplitude = largest[rows, blade]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(amplitude > 0, second[rows, blade] / amplitude, 0.0)
-    return amplitude, freqs[rows, top], ratio, size[rows, blade].sum(-1)
-
-
-def _cycle(equivalent, speed, amplitude, stable, state, j) -> Cycle:
-    """The cycle at point ``j`` of the bisection's last state, scaled to ``amplitude``."""
-    system = equivalent.system
-    scale = amplitude / state["unit_amplitude"][j]
-    vector = state["vector"][j] * scale
-    coords = system.multiblade_coordinates()
-    hub = {c.name: float(abs(vector[i])) for i, c in enumerate(coords) if c.kind == "body"}
-    return Cycle(
-        speed=float(speed),
-        amplitude=float(amplitude),
-        stable=bool(stable),
-        frequency=float(state["frequency"][j]),
-        nonrotating_frequency=float(abs(state["root"][j].imag)),
-        peak=float(state["peak"][j] * scale),
-        hub=hub,
-        second_component=float(state["second"][j]),
-        equivalent_damping=float(state["damping"][j]),
-        equivalent_stiffness=float(state["stiffness"][j]),
-        vector=vector,
-    )
 
 
 def disturbance(system, cycle: Cycle, factor: float = 1.0):
     """Blade-coordinate displacements and rates (q0, v0) at t = 0 (blade 1 at azimuth 0) of
     ``factor`` times ``cycle``'s motion: the start of a simulation along the predicted cycle."""
-    n_b, speed = system.n_blades, cycle.speed
-    v = np.asarray(cycle.vector) * factor
-    q_mb, rate_mb = v.real, (1j * cycle.nonrotating_frequency * v).real
-    basis, d_basis, _ = mbc.multiblade_basis(n_b, 0.0)
-    n_body = system.n_body
-    q0, v0 = np.zeros(system.size), np.zeros(system.size)
-    q0[:n_body], v0[:n_body] = q_mb[:n_body], rate_mb[:n_body]
-    for j in range(len(system.blade_kinds)):
-        part = slice(n_body + j * n_b, n_body + (j + 1) * n_b)
-        q0[part] = basis @ q_mb[part]
-        v0[part] = basis @ rate_mb[part] + speed * (d_basis @ q_mb[part])
-    return q0, v0
+    start = (np.asarray(cycle.start) * factor).real
+    return start[: system.size].copy(), start[system.size :].copy()
 
 
 def bracket_threshold(
@@ -361,14 +330,16 @@ def bracket_threshold(
     bisect the factor between one that decays and one that grows, ``steps`` times.
 
     Each run lasts ``duration`` [s] (default 60 periods of the cycle's rotating-frame frequency)
-    and is judged by the blade lag's largest component over its last fifth against its first
-    fifth. Returns (decays, grows): the factors bracketing the threshold, or None for an end that
-    did not behave as its side (the prediction is then off by more than the bracket).
+    and is judged by the largest component of the lag of the blade that moves most on the cycle
+    over its last fifth against its first fifth. Returns (decays, grows): the factors bracketing
+    the threshold, or None for an end that did not behave as its side (the prediction is then
+    off by more than the bracket).
     """
     from ..solve import nonlinear
 
     system = nonlinear.structure(case)
     duration = 120 * math.pi / cycle.frequency if duration is None else duration
+    blade = 1 + int(np.argmax([b.amplitude for b in cycle.blades])) if cycle.blades else 1
 
     def grows(factor: float) -> bool:
         history = nonlinear.integrate(
@@ -376,8 +347,8 @@ def bracket_threshold(
         )
         fifth = history.time[-1] / 5
         start, end = history.time <= fifth, history.time >= 4 * fifth
-        first = nonlinear.components(history.time[start], history.lag(1)[start], 1)[0][1]
-        last = nonlinear.components(history.time[end], history.lag(1)[end], 1)[0][1]
+        first = nonlinear.components(history.time[start], history.lag(blade)[start], 1)[0][1]
+        last = nonlinear.components(history.time[end], history.lag(blade)[end], 1)[0][1]
         return last > first
 
     if grows(low) or not grows(high):

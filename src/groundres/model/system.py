@@ -99,8 +99,13 @@ class System:
         self.working = working(self.damper_values(every=True))
         #: Damping matrices D_j (d, n, n), constant in azimuth, along which a split
         #: system takes dampings c_j set per speed, C = C_0 + sum_j c_j D_j
-        #: (:meth:`split_damping`); none (d = 0) in a plain system.
+        #: (:meth:`split_damping`); none (d = 0) in a plain system. A direction whose
+        #: :attr:`direction_halves` entry is 0 is a stiffness matrix S_j instead:
+        #: K = K_0 + sum_j k_j S_j.
         self.damping_directions = np.zeros((0, self.size, self.size))
+        #: Per direction, the half of [q; q'] it multiplies: 1 damping, 0 stiffness (none
+        #: listed: every direction is a damping one).
+        self.direction_halves = ()
 
     @classmethod
     def in_mass_unit(cls, rotor: Rotor, body: Body) -> System:
@@ -322,27 +327,33 @@ class System:
         off.working = list(self.working)  # (without dampers it would mark every blade working)
         return off
 
-    def split_damping(self, units) -> System:
-        """This system, whose dampings are off, carrying the damping directions of ``units``.
+    def split_damping(self, units, stiffness=()) -> System:
+        """This system, whose dampings are off, carrying the damping directions of ``units``
+        and after them the stiffness directions of ``stiffness``.
 
         ``units`` are systems that differ from this one only by a unit damping
         in one place each (a damper coefficient of 1 where this one has 0):
-        D_j = C(units[j]) - C(self). Each must be constant in azimuth (a damper
-        between parts that turn together, or on the body) and leave mass and
-        stiffness alone; ValueError otherwise.
+        D_j = C(units[j]) - C(self); ``stiffness`` systems differ by a unit spring
+        instead: S_j = K(stiffness[j]) - K(self). Each must be constant in azimuth (a damper
+        or spring between parts that turn together, or on the body) and leave the other
+        matrices alone; ValueError otherwise.
         """
         psi = np.array([0.0, 0.7, 2.1])[:, None]
         own = self.matrices(np.ones(1), psi)[:, :, 0]  # (3, azimuths, n, n)
         directions = []
-        for unit in units:
-            other = unit.matrices(np.ones(1), psi)[:, :, 0]
-            d = other[1] - own[1]
-            scale = max(np.abs(other).max(), 1.0)
-            if np.abs(other[::2] - own[::2]).max() > 1e-13 * scale or np.abs(d - d[0]).max() > 1e-13 * scale:
-                raise ValueError("a damping direction must leave mass and stiffness alone and be constant")
-            directions.append(d[0])
+        for which, systems in ((1, units), (2, stiffness)):
+            for unit in systems:
+                other = unit.matrices(np.ones(1), psi)[:, :, 0]
+                d = other[which] - own[which]
+                scale = max(np.abs(other).max(), 1.0)
+                rest = [i for i in range(3) if i != which]
+                moved = np.abs(other[rest] - own[rest]).max()
+                if moved > 1e-13 * scale or np.abs(d - d[0]).max() > 1e-13 * scale:
+                    raise ValueError("a direction must leave the other matrices alone and be constant")
+                directions.append(d[0])
         split = self._damped(System(self.rotor, self.body, self.mass_unit))
         split.damping_directions = np.array(directions).reshape(len(directions), self.size, self.size)
+        split.direction_halves = (1,) * len(units) + (0,) * len(stiffness) if len(stiffness) else ()
         return split
 
     # -- time-invariant forms -------------------------------------------------

@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..assess.limit_cycles import LARGE, POOR
+from ..assess.cycle_shapes import LARGE, POOR
+from ..assess.limit_cycles import multiblade_applies
 from ..model.describing import link_regularisation
 from ..model.mbc import unit_of
 from ..model.units import fmt_speed
@@ -24,6 +25,10 @@ REGULARISED = 0.05
 NOTES = (
     "amplitudes are of a blade's lag in the rotating frame, its largest frequency component (the one "
     "the damper law is evaluated at); peak is the sum of all its components (half peak-to-peak)",
+    "a cycle's amplitude, peak, frequencies and second_component are those of the blade that moves most "
+    "(blade); blades lists every blade's, each blade's law taken at its own amplitude and frequency "
+    "(equivalent_damping null: a blade without a damper law); hub amplitudes are each body coordinate's "
+    "largest frequency component",
     f"second_component is the next largest component over the largest: beyond {POOR} the single-harmonic "
     "approximation of the describing function is poor there (poor_approximation)",
     "a friction link's describing function is the ideal slider's: link_regularisation, c_reg A w / F, "
@@ -77,19 +82,40 @@ class LimitCycleResult:
                 parts.append(f"{name} {math.degrees(value):.3g} deg")
         return ", ".join(parts)
 
+    def _lag(self, cycle) -> str:
+        """'2.4 deg' on identical blades; 'blade 1 3.4 deg (blades 2-4: 2.1, 2.4, 2.1 deg)' on
+        blades that differ."""
+        if not cycle.dissimilar:
+            return f"{math.degrees(cycle.amplitude):.3g} deg"
+        lead = max(range(len(cycle.blades)), key=lambda k: cycle.blades[k].amplitude)
+        others = [k for k in range(len(cycle.blades)) if k != lead]
+        listed = ", ".join(f"{math.degrees(cycle.blades[k].amplitude):.3g}" for k in others)
+        names = ", ".join(str(k + 1) for k in others)
+        return f"{math.degrees(cycle.amplitude):.3g} deg of blade {lead + 1} (blades {names}: {listed} deg)"
+
     def threshold_words(self, cycle) -> str:
         """'at 260 rpm a lag disturbance above 0.88 deg (hub x 1.6 mm, y 6.5 mm) grows' ..."""
         beyond = [c for c in self.prediction.at(cycle.speed) if c.amplitude > cycle.amplitude]
         fate = "grows to a larger stable cycle" if any(c.stable for c in beyond) else "grows without bound"
-        speed, amplitude = fmt_speed(cycle.speed, self.case.sweep), math.degrees(cycle.amplitude)
-        return f"at {speed} a lag disturbance above {amplitude:.3g} deg (hub {self._hub(cycle)}) {fate}"
+        speed = fmt_speed(cycle.speed, self.case.sweep)
+        return f"at {speed} a lag disturbance above {self._lag(cycle)} (hub {self._hub(cycle)}) {fate}"
 
     def stable_words(self, cycle) -> str:
         """'at 260 rpm the blades settle on a lag cycle of 6.2 deg (hub x 11 mm, y 46 mm)' ..."""
         large = " (large: beyond the small angles the model holds)" if cycle.large else ""
         return (
             f"at {fmt_speed(cycle.speed, self.case.sweep)} the motion settles on a lag cycle of "
-            f"{math.degrees(cycle.amplitude):.3g} deg (hub {self._hub(cycle)}){large}"
+            f"{self._lag(cycle)} (hub {self._hub(cycle)}){large}"
+        )
+
+    @property
+    def method(self) -> str:
+        """How the cycles were found, in words."""
+        if multiblade_applies(self.case):
+            return "describing functions; multiblade eigen-analysis of the equivalent linear system"
+        return (
+            "describing functions, each blade's law at its own amplitude and frequency; Floquet analysis "
+            "of the equivalent periodic system"
         )
 
     def to_dict(self) -> dict:
@@ -105,7 +131,7 @@ class LimitCycleResult:
             "damping_unit": "N m s/rad",
             "stiffness_unit": "N m/rad",
             "searched": [math.degrees(a) for a in (p.amplitudes[0], p.amplitudes[-1])],
-            "method": "describing functions; multiblade eigen-analysis of the equivalent linear system",
+            "method": self.method,
             "lag_dampers": laws_block(self.case),
             "speeds": [float(w) for w in p.speeds],
             "verdicts": [p.verdict(i) for i in range(len(p.speeds))],
@@ -117,6 +143,7 @@ class LimitCycleResult:
                     "peak": math.degrees(c.peak),
                     "frequency_rotating": c.frequency,
                     "frequency_nonrotating": c.nonrotating_frequency,
+                    "blade": 1 + max(range(len(c.blades)), key=lambda k: c.blades[k].amplitude),
                     "hub": c.hub,
                     "second_component": c.second_component,
                     "poor_approximation": c.poor,
@@ -124,6 +151,7 @@ class LimitCycleResult:
                     "equivalent_damping": c.equivalent_damping,
                     "equivalent_stiffness": c.equivalent_stiffness,
                     **self._regularisation(c),
+                    "blades": [_blade(b) for b in c.blades],
                 }
                 for c in p.cycles
             ],
@@ -178,3 +206,15 @@ class LimitCycleResult:
         from ..plotting.limit_cycles import limit_cycle_figure
 
         return limit_cycle_figure(self, fig)
+
+
+def _blade(blade) -> dict:
+    """One blade's entry in a cycle of limit_cycles.json."""
+    return {
+        "amplitude": math.degrees(blade.amplitude),
+        "peak": math.degrees(blade.peak),
+        "frequency_rotating": blade.frequency,
+        "second_component": blade.second_component,
+        "equivalent_damping": blade.damping,
+        "equivalent_stiffness": blade.stiffness,
+    }

@@ -9,7 +9,10 @@ C0 + Omega C1 and stiffness K0 + Omega K1 + Omega^2 K2:
 
 and, for dampings c_j set per speed along the system's damping directions
 (C0 + sum_j c_j D_j: a lag damping on the working dampers, or the damping
-keys a design study varies), F_j = -M^-1 [0, D_j] with coefficient c_j / Omega.
+keys a design study varies), F_j = -M^-1 [0, D_j] with coefficient c_j / Omega;
+a stiffness direction (K0 + sum_j k_j S_j: the equivalent spring of a damper
+law, :attr:`groundres.model.system.System.direction_halves`) is F_j = -M^-1 [S_j, 0]
+with coefficient k_j / Omega^2.
 
 Every coefficient is a trigonometric polynomial of degree two in the azimuth,
 so the matrices are fitted exactly from five azimuths (at three speeds, which
@@ -126,13 +129,18 @@ def _harmonics(system: System) -> _Harmonics:
 
 
 #: Which half of [q; q'] the first five blocks of :func:`node_blocks` multiply
-#: (0: q, 1: q'); every damping direction after them multiplies q'.
+#: (0: q, 1: q'); the directions after them multiply their own half (q' for damping).
 HALVES = (0, 1, 0, 1, 0)
 
 
-def halves(blocks: int) -> tuple:
-    """The half of [q; q'] each of ``blocks`` blocks multiplies (:data:`HALVES`, then q')."""
-    return HALVES[:blocks] + (1,) * (blocks - len(HALVES))
+def halves(blocks: int, tail=()) -> tuple:
+    """The half of [q; q'] each of ``blocks`` blocks multiplies: :data:`HALVES`, then the
+    directions' ``tail`` (:attr:`groundres.model.system.System.direction_halves`: 1 a
+    damping direction, 0 a stiffness one), then q'."""
+    fixed = HALVES[:blocks]
+    rest = blocks - len(fixed)
+    tail = tuple(tail)[:rest]
+    return fixed + tail + (1,) * (rest - len(tail))
 
 
 def node_blocks(system: System, psi, directions: int = 0) -> np.ndarray:
@@ -147,12 +155,13 @@ def node_blocks(system: System, psi, directions: int = 0) -> np.ndarray:
     return x[..., : (5 + directions) * system.size]
 
 
-def expand(blocks: np.ndarray, coef: np.ndarray) -> np.ndarray:
-    """F = sum_b coef_b X_b on its half: blocks (..., n, B n), coef (n_s, B) -> (n_s, ..., n, 2n)."""
+def expand(blocks: np.ndarray, coef: np.ndarray, tail=()) -> np.ndarray:
+    """F = sum_b coef_b X_b on its half (:func:`halves` with the directions' ``tail``):
+    blocks (..., n, B n), coef (n_s, B) -> (n_s, ..., n, 2n)."""
     n = blocks.shape[-2]
     out = np.zeros(coef.shape[:1] + blocks.shape[:-1] + (2 * n,))
     shape = (len(coef),) + (1,) * blocks.ndim
-    for b, half in enumerate(halves(coef.shape[1])):
+    for b, half in enumerate(halves(coef.shape[1], tail)):
         out[..., half * n : (half + 1) * n] += coef[:, b].reshape(shape) * blocks[..., b * n : (b + 1) * n]
     return out
 
@@ -229,17 +238,20 @@ def directions_of(damping) -> int:
     return 0 if damping is None else 1 if np.ndim(damping) < 2 else np.shape(damping)[1]
 
 
-def node_coefficients(speeds, damping=None) -> np.ndarray:
+def node_coefficients(speeds, damping=None, tail=()) -> np.ndarray:
     """Per-speed coefficients of the blocks of :func:`node_blocks`: (n_s, 5 + d).
 
     (1, 1, 1/Omega, 1/Omega, 1/Omega^2) and, with ``damping`` (per speed along
-    the system's d damping directions, :func:`per_speed`, in the system's
-    units), c_j / Omega.
+    the system's d directions, :func:`per_speed`, in the system's units), c_j / Omega
+    for a damping direction and k_j / Omega^2 for a stiffness one (``tail`` [j] = 0,
+    :func:`halves`).
     """
     inv = 1.0 / np.asarray(speeds, dtype=float)
     cols = [np.ones_like(inv), np.ones_like(inv), inv, inv, inv**2]
     if damping is not None:
-        cols += list((per_speed(damping, len(inv)) * inv[:, None]).T)
+        values = per_speed(damping, len(inv))
+        sides = halves(5 + values.shape[1], tail)[5:]
+        cols += [v * (inv if side else inv**2) for v, side in zip(values.T, sides)]
     return np.stack(cols, 1)
 
 
@@ -271,7 +283,8 @@ def frozen_roots(system: System, speeds, probes=2, damping=None) -> np.ndarray:
         if blocks is None:
             psi = np.linspace(0, 2 * np.pi, probes, endpoint=False)
             blocks = system.grid_cache[key] = node_blocks(system, psi, directions)
-    f = np.swapaxes(expand(blocks, node_coefficients(speeds, damping)), 0, 1)
+    tail = system.direction_halves
+    f = np.swapaxes(expand(blocks, node_coefficients(speeds, damping, tail), tail), 0, 1)
     a = first_order(f, system.integrals)  # (the integrals' positions are no state)
     return batched(np.linalg.eigvals, a.reshape((-1,) + a.shape[-2:])).reshape(a.shape[:-1])
 

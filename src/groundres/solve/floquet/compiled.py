@@ -287,7 +287,7 @@ def compile_now():
             pass
 
 
-def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool = False):
+def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool = False, tail=()):
     """Transition matrices over ``parts`` equal parts of a fixed grid, and their error estimates.
 
     Parameters
@@ -306,6 +306,9 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     cumulative : bool
         Transition matrices from the start of the grid to the end of each part
         instead of over each part.
+    tail : tuple
+        The half each direction's block multiplies
+        (:func:`groundres.solve.floquet.coefficients.halves`).
 
     Returns
     -------
@@ -317,7 +320,7 @@ def propagate(nodes, coef, h: float, tableau, parts: int = 1, cumulative: bool =
     nodes = np.ascontiguousarray(nodes, dtype=float)
     coef = np.ascontiguousarray(coef, dtype=float)
     n_s, m = coef.shape[0], 2 * nodes.shape[-2]
-    halves = np.array(block_halves(coef.shape[1]), dtype=np.int64)
+    halves = np.array(block_halves(coef.shape[1], tail), dtype=np.int64)
     out = np.empty((n_s, parts, m, m))
     err = np.empty(n_s)
     compiled = kernel(wait=True)

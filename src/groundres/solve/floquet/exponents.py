@@ -40,7 +40,7 @@ from ...errors import SpeedRangeError
 from ...model.system import System
 from ..modal import displacements, kept_states, state_matrix
 from .air import in_air
-from .coefficients import frozen_rates, per_speed, rates_per_radian
+from .coefficients import frozen_rates, halves, per_speed, rates_per_radian
 from .lifting import lifted_eig
 from .symmetry import Symmetry, symmetry
 from .tableau import DOP8
@@ -318,7 +318,10 @@ def solve(
         period = sym.angle / speeds[moving].min() if len(moving) else 1.0
         mass, damp, stiff = system.matrices(speeds[still], 0.0)
         if damping is not None:
-            damp = damp + np.einsum("sd,dij->sij", damping[still], system.damping_directions)
+            sides = np.array(halves(5 + damping.shape[1], system.direction_halves)[5:], bool)
+            directions = system.damping_directions
+            damp = damp + np.einsum("sd,dij->sij", damping[still][:, sides], directions[sides])
+            stiff = stiff + np.einsum("sd,dij->sij", damping[still][:, ~sides], directions[~sides])
         lam, x = np.linalg.eig(state_matrix(mass, damp, stiff, integrals))
         x = np.concatenate([displacements(x, lam, n, integrals), x[:, mr - n :]], axis=1)
         exponent[still], vector[still], multiplier[still] = lam, x, np.exp(lam * period)

@@ -168,7 +168,8 @@ def transition_estimated(
 
     speeds = np.asarray(speeds, dtype=float)
     directions = directions_of(damping)
-    coef = node_coefficients(speeds, damping)
+    tail = system.direction_halves
+    coef = node_coefficients(speeds, damping, tail)
     h = angle / steps
     m = 2 * system.size
     out = np.empty((blocks, len(speeds), m, m))
@@ -179,7 +180,7 @@ def transition_estimated(
         acc = None
         for s0, s1 in runs:
             nodes = grid_nodes(system, angle, steps, DOP8, s0, s1, directions)
-            got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1, cumulative)
+            got, err = propagate(nodes, coef, h, DOP8, b1 - b0 if len(runs) == 1 else 1, cumulative, tail)
             error += err
             acc = got if acc is None else got @ acc
         out[b0:b1] = acc if before is None or not cumulative else acc @ before

@@ -30,7 +30,7 @@ def ordered_product(p):
     return p[0]
 
 
-def _step_propagators(nodes, coef, h, tableau):
+def _step_propagators(nodes, coef, h, tableau, tail=()):
     """One-step propagators of the Runge-Kutta method for every step and speed.
 
     The equation is linear, so each step's propagator P = I + h sum b_i K_i
@@ -44,7 +44,7 @@ def _step_propagators(nodes, coef, h, tableau):
     n2 = 2 * n
     n_s = len(coef)
     # F at every node and speed, laid out (stages, steps, n_s, n, 2n)
-    f = np.moveaxis(expand(nodes, coef), 0, 2).swapaxes(0, 1)
+    f = np.moveaxis(expand(nodes, coef, tail), 0, 2).swapaxes(0, 1)
     a, b, c = tableau.a, tableau.b, tableau.c
     a2 = a @ a
     eye_q, eye_v = np.eye(n2)[:n], np.eye(n2)[n:]
@@ -92,7 +92,8 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, d
     """
     speeds = np.asarray(speeds, dtype=float)
     directions = directions_of(damping)
-    coef_all = node_coefficients(speeds, damping)
+    tail = system.direction_halves
+    coef_all = node_coefficients(speeds, damping, tail)
     h = angle / steps
     n = system.size
     n2 = 2 * n
@@ -107,12 +108,12 @@ def transition_pairwise(system: System, speeds, angle, steps, blocks, tableau, d
         coef = coef_all[sel]
         if len(pieces) == 1:
             nodes = grid_nodes(system, angle, steps, tableau, *pieces[0], directions)
-            props = _step_propagators(nodes, coef, h, tableau)  # ((b1-b0) per, k, 2n, 2n)
+            props = _step_propagators(nodes, coef, h, tableau, tail)  # ((b1-b0) per, k, 2n, 2n)
             return ordered_product(np.swapaxes(props.reshape((b1 - b0, per) + props.shape[1:]), 0, 1))
         out = None
         for s0, s1 in pieces:
             nodes = grid_nodes(system, angle, steps, tableau, s0, s1, directions)
-            p = ordered_product(_step_propagators(nodes, coef, h, tableau))
+            p = ordered_product(_step_propagators(nodes, coef, h, tableau, tail))
             out = p if out is None else p @ out
         return out[None]
 
