@@ -17,8 +17,9 @@ from conftest import HAMMOND_TOML
 from groundres import Blade, Body, Case, Rotor, Sweep
 from groundres.cli import main
 from groundres.errors import CaseError, ParameterError, shown
+from groundres.model.keys import SCHEMA
 from groundres.model.params import MAX_BLADES, MAX_POINTS
-from groundres.model.schema import SCHEMA, load_case
+from groundres.model.schema import load_case
 from groundres.model.system import System
 
 #: The Hammond case with blade 2's damper given on its own and a reference speed.

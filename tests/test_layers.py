@@ -30,7 +30,7 @@ LAYERS = [
     ("assess", {"assess"}),
     ("plotting", {"plotting"}),
     ("results", {"results"}),
-    ("pipeline", {"analysis"}),
+    ("pipeline", {"analysis", "nonlinear_runs"}),
     ("studies and pages", {"studies", "pages"}),
     ("cli", {"cli"}),
 ]

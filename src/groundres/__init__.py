@@ -29,6 +29,8 @@ _API = {
     "simulate": "analysis",
     "compare": "analysis",
     "limit_cycles": "analysis",
+    "run_nonlinear": "nonlinear_runs",
+    "search_threshold": "nonlinear_runs",
     "SweepResult": "results.sweep",
     "Simulation": "results.simulation",
     "Comparison": "results.comparison",

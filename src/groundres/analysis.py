@@ -346,8 +346,18 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
     prediction = predict(case, speeds, searched=options.searched)
     if progress is not None:
         progress("limit cycles", 1, 1)
+    confirmations = []
+    if options.confirm:  # (each listed speed's cycles against runs of the nonlinear equations)
+        from .assess.confirm import confirm
+
+        cycles = predict(case, list(options.confirm), searched=options.searched).cycles
+        for i, cycle in enumerate(cycles):
+            report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
+            confirmations.append(
+                confirm(case, cycle, case.simulation.duration, case.simulation.window, progress=report)
+            )
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
-    return LimitCycleResult(case, prediction, sweep)
+    return LimitCycleResult(case, prediction, sweep, confirmations)
 
 
 def compare(cases, methods=None, frame: str | None = None, progress=None) -> Comparison:

@@ -323,7 +323,7 @@ def disturbance(system, cycle: Cycle, factor: float = 1.0):
 
 
 def bracket_threshold(
-    case, cycle: Cycle, low: float = 0.8, high: float = 1.25, steps: int = 4, duration=None
+    case, cycle: Cycle, low: float = 0.8, high: float = 1.25, steps: int = 4, duration=None, progress=None
 ):
     """Bracket an unstable cycle (a threshold) by simulation: start the nonlinear equations
     (:func:`groundres.solve.nonlinear.integrate`) along ``cycle``'s motion at factors of it and
@@ -333,7 +333,7 @@ def bracket_threshold(
     and is judged by the largest component of the lag of the blade that moves most on the cycle
     over its last fifth against its first fifth. Returns (decays, grows): the factors bracketing
     the threshold, or None for an end that did not behave as its side (the prediction is then
-    off by more than the bracket).
+    off by more than the bracket). ``progress(done, total)`` counts the runs.
     """
     from ..solve import nonlinear
 
@@ -341,19 +341,29 @@ def bracket_threshold(
     duration = 120 * math.pi / cycle.frequency if duration is None else duration
     blade = 1 + int(np.argmax([b.amplitude for b in cycle.blades])) if cycle.blades else 1
 
+    runs = [0]
+
     def grows(factor: float) -> bool:
+        runs[0] += 1
+        if progress is not None:
+            progress(runs[0] - 1, steps + 2)
         history = nonlinear.integrate(
             case, cycle.speed, duration, disturbance(system, cycle, factor), points=4000
         )
+        if history.stopped is not None:  # (a blade's lag passed 90 deg: it grew)
+            return True
         fifth = history.time[-1] / 5
         start, end = history.time <= fifth, history.time >= 4 * fifth
         first = nonlinear.components(history.time[start], history.lag(blade)[start], 1)[0][1]
         last = nonlinear.components(history.time[end], history.lag(blade)[end], 1)[0][1]
         return last > first
 
-    if grows(low) or not grows(high):
-        return (None if grows(low) else low), (high if grows(high) else None)
+    low_grows, high_grows = grows(low), grows(high)
+    if low_grows or not high_grows:
+        return (None if low_grows else low), (high if high_grows else None)
     for _ in range(steps):
         mid = math.sqrt(low * high)
         low, high = (low, mid) if grows(mid) else (mid, high)
+    if progress is not None:
+        progress(steps + 2, steps + 2)
     return low, high

@@ -28,8 +28,8 @@ import numpy as np
 
 from ..errors import ModelRangeError
 from ..model.body import BODY_DOFS, TRANSLATIONS, Body
+from ..model.keys import key_text
 from ..model.params import Rotor
-from ..model.schema import key_text
 from ..model.units import speed_text
 from ..solve.modal import unit_mass_state_matrix
 
@@ -63,7 +63,7 @@ class RateSource:
 
     @property
     def key(self) -> str:
-        """The parameter as a message names it (:func:`groundres.model.schema.key_text`; a
+        """The parameter as a message names it (:func:`groundres.model.keys.key_text`; a
         leg's as the case reader does, ``[[body.gear]] 2: damping_z``)."""
         if self.leg:
             return f"{key_text(self.table)} {self.leg}: {self.name}"

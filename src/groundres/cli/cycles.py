@@ -18,7 +18,11 @@ from .common import (
 )
 from .run import STAGES as RUN_STAGES
 
-STAGES = {"limit cycles": "Limit cycles (describing functions)", **RUN_STAGES}
+STAGES = {
+    "limit cycles": "Limit cycles (describing functions)",
+    "confirm": "Confirming cycles by simulation [cycles]",
+    **RUN_STAGES,
+}
 #: Speeds the terminal's table shows at most.
 ROWS = 12
 
@@ -72,6 +76,8 @@ def _print(console, found) -> None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))
     if worst is None and largest is None:
         console.print("No limit cycle within the amplitudes searched.")
+    for entry in found.confirmations:
+        console.print(plain(f"Simulation: {found.confirmation_words(entry)}."))
     loose = found.regularised()
     if loose:
         console.print(

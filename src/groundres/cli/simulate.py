@@ -39,15 +39,42 @@ from .common import (
     "|VALUE| <= 1e150 (the equations are linear: the size only scales the motion) "
     "[default: every body dof present = 0.01 and lag1 = 0.01].",
 )
+@click.option(
+    "--along",
+    type=float,
+    default=None,
+    metavar="FACTOR",
+    help="Nonlinear lag dampers: start at FACTOR times the predicted limit cycle at this speed (the "
+    "threshold of least amplitude, else the stable cycle) [default: [simulation] along_cycle].",
+)
+@click.option(
+    "--window",
+    type=float,
+    default=None,
+    help="Nonlinear lag dampers: the measuring window at the end of the run [s] [default: [simulation] "
+    "window, or a fifth of the run].",
+)
+@click.option(
+    "--threshold",
+    is_flag=True,
+    help="Nonlinear lag dampers: bracket the predicted threshold at this speed by runs started along it, "
+    "bisected --steps times between one that decays and one that grows.",
+)
+@click.option("--steps", type=int, default=4, show_default=True, help="Bisections of --threshold.")
 @out_option("groundres-out/<case name>-simulate")
 @FORMAT
-def command(case, speed, duration, initial, out, fmt):
+def command(case, speed, duration, initial, along, window, threshold, steps, out, fmt):
     """Integrate the periodic equations of CASE in time at one rotor speed.
 
     Writes simulation.<format> (body and blade motion; png unless --format
     says) and simulation.csv (with case.toml and provenance.json), and
     compares the measured growth rate with the largest real part from the
     eigen- or Floquet analysis.
+
+    With nonlinear lag dampers ([rotor.lag_damper]) the equations carry the laws themselves:
+    the run starts from --initial, or --along a predicted limit cycle, and nonlinear.json says
+    how it ends (each blade's settled lag in the rotating frame, the hub's in the nonrotating
+    frame) beside the predicted cycles; --threshold brackets a predicted threshold instead.
     """
     from ..analysis import simulate
     from ..assess.stability import is_neutral
@@ -58,6 +85,14 @@ def command(case, speed, duration, initial, out, fmt):
     values = _initial_values(initial)
     the_case, w = case_at_speed(case, speed)
     out_dir = output_dir(case, out, "simulate")
+    if the_case.rotor.nonlinear:
+        from .nonlinear_run import run
+
+        return run(
+            console, case, the_case, w, speed, duration, values, along, window, threshold, steps, out, fmt
+        )
+    if along is not None or window is not None or threshold:
+        fail_user("--along, --window and --threshold need nonlinear lag dampers ([rotor.lag_damper])")
     check_out(out_dir, out)
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}
@@ -110,10 +145,6 @@ def command(case, speed, duration, initial, out, fmt):
             f"Measured growth rate {growth:.6g} 1/s; largest real part ({method}) {predicted:.6g} 1/s"
             f" ({100 * (growth - predicted) / abs(predicted):+.3f} %)."
         )
-    if sim.case.rotor.nonlinear:  # (the time integration with the laws themselves is yet to come)
-        from ..results.damper_laws import SMALL_MOTION_NOTE
-
-        console.print(plain(f"Nonlinear lag dampers: {SMALL_MOTION_NOTE.replace('analysis', 'simulation')}."))
     console.print(f"Wrote {plain(out_dir)}/simulation.{fmt}, simulation.csv, case.toml, provenance.json")
 
 

@@ -26,6 +26,11 @@ MAX_BLADES = 32
 MAX_POINTS = 100_000
 #: Most speeds a limit-cycle analysis may have.
 MAX_CYCLE_POINTS = 2000
+#: Most speeds [limit_cycle] confirm lists (each costs a few nonlinear runs).
+MAX_CONFIRM = 8
+#: Longest nonlinear run [s], and the largest disturbance it starts from [m, rad; m/s, rad/s].
+MAX_DURATION = 3600.0
+MAX_DISTURBANCE = 1.0
 #: Most values points x (2 n)^2 of a sweep's state matrices (n coordinates):
 #: an eigen-analysis holds about 60 bytes per value, so this bounds it near 1.2 GB.
 MAX_SWEEP_VALUES = 20_000_000
@@ -322,6 +327,8 @@ class LimitCycleOptions:
     amplitude_min: float = 0.001
     amplitude_max: float = 30.0
     points: int = 100
+    #: Speeds [rad/s] at which ``groundres cycles`` confirms the predicted cycles by simulation.
+    confirm: tuple = ()
 
     def __post_init__(self):
         for key in ("amplitude_max", "amplitude_min"):
@@ -335,11 +342,60 @@ class LimitCycleOptions:
         p = self.points
         if isinstance(p, bool) or not isinstance(p, int) or not 2 <= p <= MAX_CYCLE_POINTS:
             raise ParameterError("points", p, f"must be a whole number from 2 to {MAX_CYCLE_POINTS}")
+        if len(self.confirm) > MAX_CONFIRM:
+            raise ParameterError("confirm", list(self.confirm), f"must list at most {MAX_CONFIRM} speeds")
+        for w in self.confirm:
+            if not (finite(w) and w > 0):
+                raise ParameterError("confirm", list(self.confirm), "each speed must be a finite number > 0")
 
     @property
     def searched(self) -> tuple[float, float]:
         """The amplitudes searched [rad]."""
         return math.radians(self.amplitude_min), math.radians(self.amplitude_max)
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """How a run of the nonlinear equations goes (``[simulation]``): ``duration`` and the
+    measuring ``window`` at its end [s] (None: from the motion's frequency), and its start:
+    ``along_cycle`` times the predicted cycle at the speed, or the ``initial`` displacements
+    [m, rad] and rates [m/s, rad/s] by coordinate name (``NAME_rate``), as (name, value) pairs."""
+
+    duration: float | None = None
+    window: float | None = None
+    along_cycle: float | None = None
+    initial: tuple = ()
+
+    def __post_init__(self):
+        if self.duration is not None and not (finite(self.duration) and 0 < self.duration <= MAX_DURATION):
+            raise ParameterError(
+                "duration", self.duration, f"must be a finite number from 0 to {MAX_DURATION} [s]"
+            )
+        if self.window is not None:
+            top = self.duration / 2 if self.duration is not None else MAX_DURATION / 2
+            if not (finite(self.window) and 0 < self.window <= top):
+                raise ParameterError(
+                    "window",
+                    self.window,
+                    f"must be a finite number > 0 and at most {top:g} [s] "
+                    "(half the duration: the verdict compares two windows)",
+                )
+        if self.along_cycle is not None and not (finite(self.along_cycle) and 0 < self.along_cycle <= 100):
+            raise ParameterError(
+                "along_cycle", self.along_cycle, "must be a finite number > 0 and at most 100"
+            )
+        if self.along_cycle is not None and self.initial:
+            raise ParameterError(
+                "along_cycle", self.along_cycle, "give either along_cycle or [simulation.initial]"
+            )
+        for name, value in self.initial:
+            if not (finite(value) and abs(value) <= MAX_DISTURBANCE):
+                raise ParameterError(
+                    f"initial.{name}",
+                    value,
+                    f"must be a finite number within +-{MAX_DISTURBANCE:g} [m, rad; "
+                    "m/s, rad/s]: the structure holds small angles",
+                )
 
 
 @dataclass(frozen=True)
@@ -362,6 +418,7 @@ class Case:
     text: str = field(default="", compare=False, repr=False)
     variant: str = ""
     limit_cycle: LimitCycleOptions = field(default_factory=LimitCycleOptions)
+    simulation: SimulationOptions = field(default_factory=SimulationOptions)
 
     def in_vacuum(self) -> Case:
         """The same case without its ``[aero]`` table: the rotor in vacuum (the case itself

@@ -13,124 +13,52 @@ from pathlib import Path
 
 from ..errors import CaseError, ParameterError, shown
 from .aero import DEGREE_KEYS, INFLOWS, Aero
-from .body import BODY_DOFS, LEG_KEYS, MODAL_KEYS, RIGID_KEYS, Body, Leg
+from .body import BODY_DOFS, MODAL_KEYS, RIGID_KEYS, Body, Leg
 from .casefile import LARGEST_NUMBER_TEXT, case_text, toml_data
-from .damper_laws import LIST_KEYS, BladeDamper, DamperLaw
-from .damper_laws import UNITS as LAW_UNITS
-from .dampers import DAMPER_KEYS, GEOMETRY, KINDS, Damper
-from .params import BLADE_KEYS, Blade, Case, LimitCycleOptions, Rotor, Sweep
-from .units import AERO_UNITS, SPEED_UNITS
+from .damper_laws import BladeDamper, DamperLaw
+from .dampers import GEOMETRY, KINDS, Damper
+from .keys import (
+    BOOL,
+    FAILED_OR_TABLE,
+    INT,
+    NUMBER,
+    NUMLIST,
+    REQUIRED,
+    SCHEMA,
+    STR,
+    STRLIST,
+    TABLE,
+    TABLES,
+    key_text,
+)
+from .params import BLADE_KEYS, Blade, Case, LimitCycleOptions, Rotor, SimulationOptions, Sweep
+from .units import SPEED_UNITS
 from .validate import finite
 
-_NUMBER, _INT, _BOOL, _STR, _STRLIST, _TABLE, _TABLES, _NUMLIST, _FAILED_OR_TABLE = (
-    "a number",
-    "a whole number",
-    "true or false",
-    "a string",
-    "a list of strings",
-    "a table",
-    "an array of tables",
-    "a list of numbers",
-    'a table or "failed"',
-)
-
-SCHEMA = {
-    "": {
-        "title": _STR,
-        "description": _STR,
-        "rotor": _TABLE,
-        "body": _TABLE,
-        "sweep": _TABLE,
-        "aero": _TABLE,
-        "limit_cycle": _TABLE,
-    },
-    "rotor": {
-        "blades": _INT,
-        "hinge_offset": _NUMBER,
-        "blade_mass": _NUMBER,
-        "blade_static_moment": _NUMBER,
-        "blade_inertia": _NUMBER,
-        "lag_stiffness": _NUMBER,
-        "lag_damping": _NUMBER,
-        "flap": _BOOL,
-        "flap_stiffness": _NUMBER,
-        "flap_damping": _NUMBER,
-        "blade": _TABLES,
-        "damper": _TABLES,
-        "lag_damper": _TABLE,
-    },
-    "rotor.blade": {"index": _INT, **{k: _NUMBER for k in BLADE_KEYS}, "lag_damper": _FAILED_OR_TABLE},
-    "rotor.lag_damper": {"law": _STR, **{k: _NUMLIST if k in LIST_KEYS else _NUMBER for k in LAW_UNITS}},
-    "rotor.damper": {"kind": _STR, "blade": _INT, **{k: _NUMBER for k in DAMPER_KEYS if k != "kind"}},
-    "body": {
-        "dofs": _STRLIST,
-        "hub_height": _NUMBER,
-        "hub_x": _NUMBER,
-        "hub_y": _NUMBER,
-        **{k: _NUMBER for k in MODAL_KEYS},
-        **{k: _NUMBER for k in RIGID_KEYS},
-        "gear": _TABLES,
-    },
-    "body.gear": {k: _NUMBER for k in LEG_KEYS},
-    "aero": {**{k: _NUMBER for k in AERO_UNITS}, "inflow": _STR},
-    "limit_cycle": {"amplitude_min": _NUMBER, "amplitude_max": _NUMBER, "points": _INT},
-    "sweep": {
-        "start": _NUMBER,
-        "stop": _NUMBER,
-        "points": _INT,
-        "unit": _STR,
-        "reference": _NUMBER,
-        "frame": _STR,
-        "method": _STR,
-        "operating_start": _NUMBER,
-        "operating_stop": _NUMBER,
-        "required_damping_ratio": _NUMBER,
-    },
-}
-REQUIRED = {
-    "": ("rotor", "body", "sweep"),
-    "rotor": ("blades", "hinge_offset", "blade_mass", "blade_static_moment", "blade_inertia"),
-    "rotor.blade": ("index",),
-    "rotor.damper": ("kind",),
-    "body.gear": ("position_x", "position_y", "position_z"),
-    "sweep": ("start", "stop"),
-    "aero": ("lift_slope", "chord", "tip_radius"),
-}
 _DEFAULT_DOFS = ["x", "y"]
-
-
-def key_text(table: str, key: str = "") -> str:
-    """How a message names ``key`` of a case file's ``table`` (as the file writes it):
-    ``[sweep] stop``, ``[[body.gear]] damping`` (an array of tables), ``[rotor]``."""
-    if not table:
-        return key
-    parent, _, name = table.rpartition(".")
-    array = SCHEMA.get(parent, {}).get(name) == _TABLES
-    where = f"[[{table}]]" if array else f"[{table}]"
-    return f"{where} {key}" if key else where
 
 
 def _check_type(table: str, key: str, value, kind: str, where: str = "") -> None:
     """``value`` of ``key`` is of ``kind`` (CaseError naming it, as ``where`` + key if given)."""
     name = f"{where}{key}" if where else key_text(table, key)
     ok = {
-        _NUMBER: isinstance(value, (int, float)) and not isinstance(value, bool),
-        _INT: isinstance(value, int) and not isinstance(value, bool),
-        _BOOL: isinstance(value, bool),
-        _STR: isinstance(value, str),
-        _STRLIST: isinstance(value, list) and all(isinstance(v, str) for v in value),
-        _TABLE: isinstance(value, dict),
-        _TABLES: isinstance(value, list) and all(isinstance(v, dict) for v in value),
-        _NUMLIST: isinstance(value, list)
+        NUMBER: isinstance(value, (int, float)) and not isinstance(value, bool),
+        INT: isinstance(value, int) and not isinstance(value, bool),
+        BOOL: isinstance(value, bool),
+        STR: isinstance(value, str),
+        STRLIST: isinstance(value, list) and all(isinstance(v, str) for v in value),
+        TABLE: isinstance(value, dict),
+        TABLES: isinstance(value, list) and all(isinstance(v, dict) for v in value),
+        NUMLIST: isinstance(value, list)
         and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value),
-        _FAILED_OR_TABLE: isinstance(value, dict) or value == "failed",
+        FAILED_OR_TABLE: isinstance(value, dict) or value == "failed",
     }[kind]
     if not ok:
         text = type(value).__name__ if isinstance(value, (dict, list)) else shown(value)
         raise CaseError(f"{name} = {text}: must be {kind}")
-    numbers = [value] if kind == _NUMBER else value if kind == _NUMLIST else []
+    numbers = [value] if kind == NUMBER else value if kind == NUMLIST else []
     if not all(finite(v) for v in numbers):
-        what = "finite numbers" if kind == _NUMLIST else "a finite number"
+        what = "finite numbers" if kind == NUMLIST else "a finite number"
         raise CaseError(f"{name} = {shown(value)}: must be {what}, |value| <= {LARGEST_NUMBER_TEXT}")
 
 
@@ -457,7 +385,8 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
         rotor=rotor,
         body=_body(data["body"]),
         sweep=_sweep(data["sweep"]),
-        limit_cycle=_limit_cycle(data.get("limit_cycle", {})),
+        limit_cycle=_limit_cycle(data.get("limit_cycle", {}), data["sweep"]),
+        simulation=_simulation(data.get("simulation", {})),
         title=data.get("title", Path(source).stem if source else "groundres case"),
         description=data.get("description", ""),
         source=source,
@@ -465,9 +394,13 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
     )
 
 
-def _limit_cycle(data: dict) -> LimitCycleOptions:
+def _limit_cycle(data: dict, sweep: dict) -> LimitCycleOptions:
     _check_table("limit_cycle", data)
-    values = {k: (v if k == "points" else float(v)) for k, v in data.items()}
+    values = {k: (v if k == "points" else float(v)) for k, v in data.items() if k != "confirm"}
+    if "confirm" in data:  # (speeds in the sweep's unit, checked as written)
+        _build("[limit_cycle] ", LimitCycleOptions, confirm=tuple(data["confirm"]))
+        factor = SPEED_UNITS.get(sweep.get("unit", "rad/s"), 1.0)
+        values["confirm"] = tuple(float(v) * factor for v in data["confirm"])
     high = values.get("amplitude_max")
     if "amplitude_min" not in values and high is not None and finite(high) and 0 < high <= 0.001:
         raise CaseError(
@@ -475,6 +408,20 @@ def _limit_cycle(data: dict) -> LimitCycleOptions:
             "(0.001 deg unless given)"
         )
     return _build("[limit_cycle] ", LimitCycleOptions, **values)
+
+
+def _simulation(data: dict) -> SimulationOptions:
+    _check_table("simulation", data)
+    initial = data.get("initial", {})
+    for name, value in initial.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise CaseError(
+                f"[simulation.initial] {name} = {shown(value)}: must be a number (m, rad; m/s, rad/s for "
+                "NAME_rate)"
+            )
+    values = {k: float(v) for k, v in data.items() if k != "initial"}
+    values["initial"] = tuple((str(k), float(v)) for k, v in initial.items())
+    return _build("[simulation] ", SimulationOptions, **values)
 
 
 def load_case(path_or_name: str | Path) -> Case:

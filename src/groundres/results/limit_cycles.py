@@ -9,7 +9,7 @@ with its case and the linear analysis beside it; ``to_dict()`` is limit_cycles.j
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..assess.cycle_shapes import LARGE, POOR
 from ..assess.limit_cycles import multiblade_applies
@@ -54,6 +54,9 @@ class LimitCycleResult:
     case: object
     prediction: object
     linear: object = None
+    #: The cycles at ``[limit_cycle] confirm`` speeds set against runs of the nonlinear equations
+    #: (:func:`groundres.assess.confirm.confirm`).
+    confirmations: list = field(default_factory=list)
 
     @property
     def thresholds(self) -> list:
@@ -155,8 +158,29 @@ class LimitCycleResult:
                 }
                 for c in p.cycles
             ],
+            "confirmations": self.confirmations,
             "notes": list(NOTES),
         }
+
+    def confirmation_words(self, entry: dict) -> str:
+        """A confirmation in words: 'at 264 rpm the threshold of 2.38 deg is confirmed: 0.8 times it
+        decays, 1.25 times it grows'."""
+        where = fmt_speed(entry["speed"], self.case.sweep)
+        runs = {r["factor"]: r for r in entry["runs"]}
+        said = "confirmed" if entry["confirmed"] else "not confirmed"
+        if entry["stable"]:
+            (run,) = runs.values()
+            change = f"{100 * entry['error']:+.2g} %"
+            return (
+                f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from "
+                f"{run['factor']:g} times it the run {run['verdict']} at {run['amplitude']:.3g} deg "
+                f"({change})"
+            )
+        below, above = (runs[f] for f in sorted(runs))
+        return (
+            f"at {where} the threshold of {entry['predicted']:.3g} deg is {said}: {below['factor']:g} times "
+            f"it {below['verdict']}, {above['factor']:g} times it {above['verdict']}"
+        )
 
     def _regularisation(self, cycle) -> dict:
         """A friction link's regularisation at ``cycle``: c_reg A w / F, by which its describing

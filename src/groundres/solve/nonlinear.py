@@ -26,6 +26,7 @@ least squares), the larger one's amplitude being the amplitude the law sees.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,6 +56,11 @@ class NonlinearHistory:
     rotor_speed: float
     evaluations: int
     method: str
+    #: Where a blade's lag passed :data:`LIMIT` and the run stopped [s] (None: it ran its course).
+    stopped: float | None = None
+    #: The integration's absolute tolerance [m, rad]: motion below about a thousand times it is
+    #: the integration's error, not a result.
+    atol: float = 0.0
 
     def lag(self, blade: int) -> np.ndarray:
         """Blade ``blade``'s (1-based) lag angle over time [rad]."""
@@ -152,9 +158,19 @@ class Equations:
         return out
 
 
-def integrate(case, speed: float, duration: float, initial, rtol: float | None = None, points: int = 8000):
+#: Pieces a run is integrated in (progress is reported after each).
+PIECES = 20
+#: A run stops where a blade's lag passes this [rad]: far beyond the small angles the structure
+#: holds, motion that grows there only grows on (and would leave double precision).
+LIMIT = math.pi / 2
+
+
+def integrate(
+    case, speed: float, duration: float, initial, rtol: float | None = None, points: int = 8000, progress=None
+):
     """Integrate the equations with the laws from ``initial`` = (q0, v0) (SI, the coordinates of
     :func:`structure`) over ``duration`` [s] at ``speed`` [rad/s]; sliders start at rest.
+    ``progress(done, total)`` [s simulated] is called after each of :data:`PIECES` pieces.
 
     ``rtol``: by default 1e-9 (DOP853), or 1e-7 where the law is stiff (Radau, with the laws'
     Jacobian): a slider's stick-slip kinks hold a tighter implicit integration to many small
@@ -168,24 +184,57 @@ def integrate(case, speed: float, duration: float, initial, rtol: float | None =
     rtol = (STIFF_RTOL if stiff else RTOL) if rtol is None else rtol
     times = np.linspace(0.0, duration, points)
     size = max(np.abs(np.concatenate([q0, v0])).max(), 1e-12)
-    sol = solve_ivp(
-        equations.rhs,
-        (0.0, duration),
-        np.concatenate([q0, v0, np.zeros(len(sliders))]),
-        method=method,
-        t_eval=times,
-        **({"jac": equations.jacobian} if stiff else {}),
-        rtol=rtol,
-        atol=rtol * 1e-3 * size,
-    )
-    if not sol.success:
-        raise RuntimeError(f"time integration failed: {sol.message}")
-    slider = np.zeros((len(sol.t), n_b))
+    state = np.concatenate([q0, v0, np.zeros(len(sliders))])
+    ends = np.linspace(0.0, duration, PIECES + 1)
+    values, evaluations, stopped = [state[:, None]], 0, None
+    lags = [i for i, c in enumerate(system.coordinates) if c.kind == "lag"]
+
+    def beyond(t, x):  # (zero where the largest blade lag reaches LIMIT)
+        return LIMIT - np.abs(x[lags]).max()
+
+    beyond.terminal = True
+    for a, b in zip(ends[:-1], ends[1:]):  # (pieces end on output instants: none is lost or doubled)
+        inside = times[(times > a) & (times <= b)]
+        sol = solve_ivp(
+            equations.rhs,
+            (a, b),
+            state,
+            method=method,
+            t_eval=inside,
+            dense_output=True,
+            events=beyond,
+            **({"jac": equations.jacobian} if stiff else {}),
+            rtol=rtol,
+            atol=rtol * 1e-3 * size,
+        )
+        if not sol.success:
+            raise RuntimeError(f"time integration failed: {sol.message}")
+        evaluations += int(sol.nfev)
+        values.append(sol.y)
+        if sol.status == 1:  # (a blade passed LIMIT: the run ends there)
+            stopped = float(sol.t_events[0][0])
+            break
+        state = sol.sol(b)
+        if progress is not None:
+            progress(float(b), float(duration))
+    y = np.concatenate(values, axis=1)
+    times = times[: y.shape[1]]
+    slider = np.zeros((len(times), n_b))
     for j, (_, _, k) in enumerate(sliders):
-        slider[:, k] = sol.y[2 * n + j]
-    evaluations = int(sol.nfev)
+        slider[:, k] = y[2 * n + j]
+    if progress is not None and stopped is not None:
+        progress(float(duration), float(duration))
     return NonlinearHistory(
-        sol.t, sol.y[:n].T, sol.y[n : 2 * n].T, slider, system.coordinates, float(speed), evaluations, method
+        times,
+        y[:n].T,
+        y[n : 2 * n].T,
+        slider,
+        system.coordinates,
+        float(speed),
+        evaluations,
+        method,
+        stopped,
+        rtol * 1e-3 * size,
     )
 
 

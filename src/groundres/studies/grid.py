@@ -6,7 +6,7 @@ repeated table, ``rotor.blade[k].<key>`` for blade k (1-based, the ``index``
 of a ``[[rotor.blade]]`` table, which is added where the case has none), and
 ``rotor.damper[k].<key>``, ``body.gear[k].<key>`` for the k-th such table of
 the case file (1-based, in the file's order). The keys
-and their types come from the case-file schema (:data:`groundres.model.schema.SCHEMA`),
+and their types come from the case-file schema (:data:`groundres.model.keys.SCHEMA`),
 so a key added to the format later is variable without code here. Values are
 in the case's own units (``sweep.stop`` in the sweep's unit).
 
@@ -31,8 +31,9 @@ import numpy as np
 from .._version import __version__
 from ..errors import InputError, StudyError, shown
 from ..model.casefile import table_lines
+from ..model.keys import SCHEMA
 from ..model.params import Case
-from ..model.schema import SCHEMA, parse_case
+from ..model.schema import parse_case
 
 #: Most grid points of one study (a study beyond it is refused before any work).
 MAX_POINTS = 1_000_000

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import ModelRangeError
-from ...model.schema import key_text
+from ...model.keys import key_text
 from ...model.system import System
 from ...model.units import speed_text
 from .coefficients import GRID_CACHE_SIZE, frozen_rates, grid_values

@@ -1,0 +1,143 @@
+"""`groundres simulate` on a case with nonlinear lag dampers: a run of the equations with the laws,
+or the threshold search."""
+
+from __future__ import annotations
+
+import math
+
+from ..errors import shown
+from .common import Steps, check_out, fail_user, invocation, out_name, plain
+
+#: The options that give the nonlinear runs' arguments.
+OPTIONS = {
+    "speed": "--speed",
+    "duration": "--time",
+    "along_cycle": "--along",
+    "window": "--window",
+    "steps": "--steps",
+}
+
+
+def run(console, case, the_case, w, speed, duration, values, along, window, threshold, steps, out, fmt):
+    """The nonlinear path of ``groundres simulate`` (its options as given; ``w`` [rad/s])."""
+    from ..errors import ParameterError
+    from ..model.units import fmt_speed
+    from ..nonlinear_runs import run_nonlinear, search_threshold
+    from ..results import files, folders
+    from .common import output_dir
+
+    out_dir = output_dir(case, out, "simulate")
+    check_out(out_dir, out)
+    unit = the_case.sweep.unit
+    given = {"speed": f"{shown(speed)} {unit}", "duration": repr(duration), "steps": repr(steps)}
+    if threshold and (along is not None or values or window is not None):
+        fail_user(
+            "--threshold starts its own runs along the predicted threshold: leave out --along, --initial "
+            "and --window"
+        )
+    labels = {
+        "integrate": f"Simulating at {speed:g} {unit} with the damper laws [s simulated]",
+        "threshold": f"Bracketing the threshold at {speed:g} {unit} [runs]",
+        "write": "Writing results",
+    }
+    with Steps(console, labels) as steps_bar:
+        try:
+            if threshold:
+                report = steps_bar.callback and (lambda d, t: steps_bar("threshold", d, t))
+                cycle, bracket = search_threshold(
+                    the_case, w, steps=steps, duration=duration, progress=report
+                )
+            else:
+                report = steps_bar.callback and (lambda d, t: steps_bar("integrate", d, t))
+                found = run_nonlinear(
+                    the_case,
+                    w,
+                    duration=duration,
+                    window=window,
+                    initial=values or None,
+                    along_cycle=along,
+                    progress=report,
+                )
+        except ParameterError as err:  # (named as the command line's options)
+            if err.key.startswith("initial"):  # (as given: --initial x=3)
+                name = err.key.partition(".")[2]
+                fail_user(
+                    f"--initial {name}={err.value!r}: {err.allowed}" if name else f"--initial: {err.allowed}"
+                )
+            option = OPTIONS.get(err.key, err.key)
+            fail_user(f"{option} = {given.get(err.key) or shown(err.value)}: {err.allowed}")
+        with steps_bar.step("write"), folders.output_folder(out_dir, out_name(out)) as folder:
+            if threshold:
+                record = _threshold_record(cycle, bracket)
+                files.write_json(folder / "threshold.json", record)
+            else:
+                files.write_figure(found.plot(), folder / f"simulation.{fmt}")
+                files.write_simulation_csv(found, folder / "simulation.csv")
+                files.write_json(folder / "nonlinear.json", found.to_dict())
+            folders.write_provenance(
+                folder,
+                the_case,
+                command="simulate",
+                method="time-integration with the lag damper laws",
+                rotor_speed={"value": w, "unit": "rad/s"},
+                **invocation(),
+            )
+    where = fmt_speed(w, the_case.sweep)
+    if threshold:
+        decays, grows = bracket
+        predicted = math.degrees(cycle.amplitude)
+        if decays is None or grows is None:
+            side = "decays" if decays is None else "grows"
+            console.print(
+                plain(
+                    f"At {where} the predicted threshold of {predicted:.3g} deg is not bracketed: the run "
+                    f"started {'below' if side == 'decays' else 'above'} it does not "
+                    f"{'decay' if side == 'decays' else 'grow'} (the prediction is off by more than the "
+                    "bracket, 0.8 to 1.25 times it)."
+                )
+            )
+        else:
+            console.print(
+                plain(
+                    f"At {where} the simulated threshold lies between {decays:.4g} and {grows:.4g} times the "
+                    f"predicted {predicted:.3g} deg: {decays * predicted:.3g} to {grows * predicted:.3g} deg "
+                    f"(blade {record['blade']})."
+                )
+            )
+        console.print(f"Wrote {plain(out_dir)}/threshold.json, case.toml, provenance.json")
+        return
+    from ..results.nonlinear_run import hub_text
+
+    words = found.words()
+    hub = f"; hub {hub_text(found.measured)}" if found.resolved and found.history.stopped is None else ""
+    console.print(plain(f"{words[0].upper()}{words[1:]}{hub}."))
+    for c in found.predicted:
+        kind = "stable cycle" if c.stable else "threshold"
+        console.print(plain(f"  predicted {kind}: {math.degrees(c.amplitude):.3g} deg"))
+    h = found.history
+    console.print(f"Integrator {h.method}: {h.evaluations} evaluations of the equations.")
+    console.print(
+        f"Wrote {plain(out_dir)}/simulation.{fmt}, simulation.csv, nonlinear.json, case.toml, provenance.json"
+    )
+
+
+def _threshold_record(cycle, bracket) -> dict:
+    """threshold.json: the predicted threshold and the factors of it the runs bracket."""
+    decays, grows = bracket
+    blade = 1 + max(range(len(cycle.blades)), key=lambda k: cycle.blades[k].amplitude)
+    return {
+        "speed": cycle.speed,
+        "speed_unit": "rad/s",
+        "amplitude_unit": "deg",
+        "predicted": math.degrees(cycle.amplitude),
+        "blade": blade,
+        "decays_at": decays,
+        "grows_at": grows,
+        "bracket": [None if f is None else f * math.degrees(cycle.amplitude) for f in bracket],
+        "notes": [
+            "runs start along the predicted threshold's motion at factors of it; decays_at and grows_at are "
+            "the factors bracketing the simulated threshold (null: that end did not behave as its side)",
+            "each run is judged on the lag of the blade that moves most: its largest component over the "
+            "run's last fifth against its first fifth",
+        ],
+    }

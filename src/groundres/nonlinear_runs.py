@@ -1,0 +1,145 @@
+"""Runs of the nonlinear equations (the lag dampers' laws themselves) for a user: at one speed
+from a disturbance, and the threshold search.
+
+:func:`run_nonlinear` integrates the periodic blade equations with each law's
+moment and measures the end of the run as the limit-cycle prediction measures a
+cycle; :func:`search_threshold` brackets a predicted threshold by bisection on
+the disturbance. Both start from ``[simulation]`` where the call leaves a choice.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .assess import confirm as confirming
+from .assess.limit_cycles import bracket_threshold, disturbance, predict
+from .errors import CaseError, ParameterError
+from .model.params import MAX_DISTURBANCE, Case, SimulationOptions
+from .model.units import SPEED_UNITS
+from .results.nonlinear_run import NonlinearRun
+from .solve import nonlinear
+from .solve.simulate import default_initial, initial_state, initial_text
+
+
+def _checked(case: Case, speed) -> None:
+    if not case.rotor.nonlinear:
+        raise CaseError(
+            "[rotor.lag_damper]: a nonlinear run needs a nonlinear lag damper law (none is given)"
+        )
+    bad = (
+        isinstance(speed, bool)
+        or not isinstance(speed, (int, float))
+        or not (np.isfinite(speed) and speed > 0)
+    )
+    if bad:
+        raise ParameterError("speed", speed, "must be a finite number > 0 [rad/s]")
+    for k, entry in enumerate(case.rotor.lag_laws):
+        if entry is not None and not entry.law.simulable:
+            raise CaseError(
+                f'[rotor.lag_damper] law = "table" (blade {k + 1}): a table of measured properties gives no '
+                "moment in time, so it cannot be simulated (fit a friction-link law to it)"
+            )
+
+
+def _cycles(case: Case, speed: float) -> list:
+    """The cycles predicted at ``speed`` over the amplitudes ``[limit_cycle]`` searches."""
+    return predict(case, [speed], searched=case.limit_cycle.searched).cycles
+
+
+def _along(cycles: list, factor: float):
+    """The cycle a run along a predicted cycle follows: the threshold of least amplitude, else the
+    stable cycle of least amplitude."""
+    ranked = sorted(cycles, key=lambda c: (c.stable, c.amplitude))
+    if not ranked:
+        raise ParameterError(
+            "along_cycle", factor, "no limit cycle is predicted at this speed to start along"
+        )
+    return ranked[0]
+
+
+def run_nonlinear(
+    case: Case,
+    speed: float,
+    *,
+    duration: float | None = None,
+    window: float | None = None,
+    initial: dict | None = None,
+    along_cycle: float | None = None,
+    progress=None,
+) -> NonlinearRun:
+    """Integrate the periodic blade equations with the lag dampers' laws at ``speed`` [rad/s].
+
+    The run starts from ``initial`` (displacements [m, rad] and rates by coordinate name, as
+    :func:`groundres.analysis.simulate`) or ``along_cycle`` times the predicted cycle at that speed
+    (the threshold of least amplitude, else the stable cycle), else from ``[simulation]``, else from
+    0.01 on every body coordinate and on lag1. ``duration`` [s] defaults to ``[simulation]`` or 120
+    periods of the motion; ``window`` [s] to ``[simulation]`` or a fifth of the run. Its end is
+    measured as the prediction measures a cycle (:mod:`groundres.assess.confirm`), in both frames,
+    with the predicted cycles beside it.
+
+    Examples
+    --------
+    >>> run = run_nonlinear(load_case("hammond-relief-valve"), 27.7, along_cycle=1.1)  # doctest: +SKIP
+    >>> run.measured.verdict, run.words()  # doctest: +SKIP
+    """
+    _checked(case, speed)
+    options = case.simulation
+    given = SimulationOptions(
+        duration=duration if duration is not None else options.duration,
+        window=window if window is not None else options.window,
+        along_cycle=along_cycle if along_cycle is not None or initial else options.along_cycle,
+        initial=tuple((initial or {}).items()) or (() if along_cycle is not None else options.initial),
+    )
+    predicted = _cycles(case, speed)
+    system = nonlinear.structure(case)
+    if given.along_cycle is not None:
+        cycle = _along(predicted, given.along_cycle)
+        start = disturbance(system, cycle, given.along_cycle)
+        kind = "stable cycle" if cycle.stable else "threshold"
+        words = f"{given.along_cycle:g} times the predicted {kind} of {math.degrees(cycle.amplitude):.3g} deg"
+        frequency = cycle.frequency
+    else:
+        values = dict(given.initial) or default_initial(system)
+        for key, value in values.items():
+            if abs(value) > MAX_DISTURBANCE:
+                raise ParameterError(
+                    "initial", {key: value}, f"each value within +-{MAX_DISTURBANCE:g} [m, rad]"
+                )
+        start = initial_state(system, values)
+        words = initial_text(values)
+        blade = case.rotor.blades[0]
+        frequency = float(blade.lag_frequency(np.array([speed]))[0]) * speed
+    run_for = confirming.default_duration(frequency) if given.duration is None else given.duration
+    measured_over = confirming.WINDOW_SHARE * run_for if given.window is None else given.window
+    if not measured_over <= run_for / 2:
+        raise ParameterError("window", measured_over, f"must be at most half the run ({run_for / 2:g} s)")
+    history = nonlinear.integrate(case, speed, run_for, start, progress=progress)
+    return NonlinearRun(case, speed, words, confirming.measure(history, measured_over), predicted)
+
+
+def search_threshold(
+    case: Case, speed: float, *, steps: int = 4, duration: float | None = None, progress=None
+):
+    """Bracket the predicted threshold of least amplitude at ``speed`` [rad/s] by simulation: runs
+    started along it at factors of it, bisected ``steps`` times between one that decays and one
+    that grows (:func:`groundres.assess.limit_cycles.bracket_threshold`).
+
+    Returns (cycle, (decays, grows)): the predicted threshold and the factors of it that bracket
+    the simulated one (an end is None where it did not behave as its side).
+    """
+    _checked(case, speed)
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 0 <= steps <= 12:
+        raise ParameterError("steps", steps, "must be a whole number from 0 to 12")
+    thresholds = [c for c in _cycles(case, speed) if not c.stable]
+    if not thresholds:
+        unit = case.sweep.unit
+        raise ParameterError(
+            "speed",
+            speed,
+            f"no threshold is predicted at {speed / SPEED_UNITS[unit]:g} {unit} (groundres cycles)",
+        )
+    cycle = min(thresholds, key=lambda c: c.amplitude)
+    run_for = duration if duration is not None else case.simulation.duration
+    return cycle, bracket_threshold(case, cycle, steps=steps, duration=run_for, progress=progress)

@@ -1,0 +1,222 @@
+"""Runs of the nonlinear equations for a user (issue 26, item 5): `groundres simulate` with the
+laws, the threshold search, `[simulation]`, and `[limit_cycle] confirm` in `groundres cycles`.
+
+The physics of a run (the equations with the laws, the measure, the settled cycles against the
+prediction) is checked in tests/test_nonlinear.py; here: what a user gives and reads. The runs
+are on hammond-relief-valve at 264.34 rpm, where its smallest threshold, 2.38 deg, sits: below
+it a run decays, above it the run grows until a blade passes 90 deg, where it stops.
+"""
+
+import json
+import math
+import tomllib
+
+import pytest
+from click.testing import CliRunner
+
+from groundres import run_nonlinear, search_threshold
+from groundres.cli import main
+from groundres.model.casefile import case_text
+from groundres.model.schema import load_case, parse_case
+
+RPM = 2 * math.pi / 60
+SPEED = 264.34 * RPM
+
+
+def _cli(*args):
+    return CliRunner().invoke(main, list(args))
+
+
+def _text(extra: str = "", case: str = "hammond-relief-valve") -> str:
+    text, _ = case_text(case)
+    return text + extra
+
+
+def _file(tmp_path, extra: str = "", case: str = "hammond-relief-valve") -> str:
+    path = tmp_path / "case.toml"
+    path.write_text(_text(extra, case))
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def relief():
+    return load_case("hammond-relief-valve")
+
+
+def test_a_run_along_a_threshold_decays_below_it_and_grows_above_it_until_it_stops(relief):
+    below = run_nonlinear(relief, SPEED, along_cycle=0.9, duration=30.0)
+    assert below.measured.verdict == "decays" and below.history.stopped is None
+    assert len(below.predicted) == 1 and not below.predicted[0].stable
+    above = run_nonlinear(relief, SPEED, along_cycle=1.1, duration=30.0)
+    assert above.measured.verdict == "grows" and above.history.stopped is not None
+    assert above.history.stopped < 30.0 and "where the run stopped" in above.words()
+    data = above.to_dict()
+    assert data["stopped"] == above.history.stopped and data["verdict"] == "grows"
+    assert json.loads(json.dumps(data, allow_nan=False))["predicted"][0]["amplitude"] == pytest.approx(
+        2.38, abs=0.01
+    )
+
+
+def test_motion_that_decays_to_the_integration_s_resolution_is_not_printed_as_a_result(relief):
+    run = run_nonlinear(relief, SPEED, along_cycle=0.5, duration=80.0)
+    assert not run.resolved and "resolution" in run.words()
+    data = run.to_dict()
+    assert data["amplitude"] is None and data["blades"] is None and data["hub"] is None
+
+
+def test_the_simulation_table_sets_the_start_the_duration_and_the_window():
+    text = _text(
+        "\n[simulation]\nduration = 12.0\nwindow = 3.0\n\n[simulation.initial]\nx = 0.002\nlag2 = 0.01\n"
+    )
+    case = parse_case(tomllib.loads(text), "relief", text)
+    assert case.simulation.initial == (("x", 0.002), ("lag2", 0.01))
+    run = run_nonlinear(case, SPEED)
+    assert run.time[-1] == pytest.approx(12.0) and run.measured.window == 3.0
+    assert run.start == "x = 0.002 m, lag2 = 0.01 rad"
+
+
+@pytest.mark.parametrize(
+    "extra, words",
+    [
+        ("\n[simulation]\nduration = -1.0\n", ["[simulation] duration = -1.0", "from 0 to 3600"]),
+        (
+            "\n[simulation]\nduration = 10.0\nwindow = 6.0\n",
+            ["[simulation] window = 6.0", "half the duration"],
+        ),
+        ("\n[simulation]\nalong_cycle = 0.0\n", ["[simulation] along_cycle = 0.0", "> 0"]),
+        ("\n[simulation]\nspeed = 3.0\n", ["unknown key 'speed'", "[simulation]"]),
+        ("\n[simulation.initial]\nx = 2.0\n", ["initial.x = 2.0", "small angles"]),
+        ('\n[simulation.initial]\nx = "far"\n', ["[simulation.initial] x = 'far'", "must be a number"]),
+        ("\n[simulation]\nalong_cycle = 1.1\n[simulation.initial]\nx = 0.01\n", ["along_cycle", "either"]),
+    ],
+)
+def test_a_bad_simulation_table_is_refused_naming_the_key(tmp_path, extra, words):
+    result = _cli("simulate", _file(tmp_path, extra), "--speed", "264.34", "--out", str(tmp_path / "out"))
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert all(w in text for w in words), text
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()
+
+
+def test_confirm_speeds_are_in_the_sweep_s_unit_and_bounded(tmp_path):
+    text = _text("confirm = [264.34, 300.0]\n")  # (the case's [limit_cycle] table is last in the file)
+    case = parse_case(tomllib.loads(text), "relief", text)
+    assert case.limit_cycle.confirm == pytest.approx((264.34 * RPM, 300.0 * RPM))
+    result = _cli(
+        "cycles", _file(tmp_path, "confirm = [1.0, 2, 3, 4, 5, 6, 7, 8, 9]\n"), "--out", str(tmp_path / "o")
+    )
+    assert result.exit_code == 2 and "[limit_cycle] confirm" in result.output and "at most 8" in result.output
+
+
+def test_groundres_simulate_runs_the_laws_and_writes_what_the_run_shows(tmp_path):
+    out = tmp_path / "out"
+    result = _cli(
+        "simulate",
+        "hammond-relief-valve",
+        "--speed",
+        "264.34",
+        "--along",
+        "0.9",
+        "--time",
+        "20",
+        "--out",
+        str(out),
+    )
+    assert result.exit_code == 0, result.output
+    assert {p.name for p in out.iterdir()} == {
+        "simulation.png",
+        "simulation.csv",
+        "nonlinear.json",
+        "case.toml",
+        "provenance.json",
+    }
+    data = json.loads((out / "nonlinear.json").read_text())
+    assert data["verdict"] == "decays" and data["start"].startswith(
+        "0.9 times the predicted threshold of 2.38 deg"
+    )
+    assert "predicted threshold: 2.38 deg" in result.output and "evaluations" in result.output
+
+
+def test_groundres_simulate_brackets_a_threshold(tmp_path):
+    out = tmp_path / "out"
+    result = _cli(
+        "simulate",
+        "hammond-relief-valve",
+        "--speed",
+        "264.34",
+        "--threshold",
+        "--steps",
+        "0",
+        "--time",
+        "20",
+        "--out",
+        str(out),
+    )
+    assert result.exit_code == 0, result.output
+    data = json.loads((out / "threshold.json").read_text())
+    assert (data["decays_at"], data["grows_at"]) == (0.8, 1.25)
+    assert data["bracket"] == pytest.approx([0.8 * data["predicted"], 1.25 * data["predicted"]])
+    assert "simulated threshold lies between 0.8 and 1.25 times the predicted 2.38 deg" in " ".join(
+        result.output.split()
+    )
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["hammond-1974", "--speed", "30", "--along", "1.1"], ["--along", "nonlinear lag dampers"]),
+        (["hammond-relief-valve", "--speed", "100", "--along", "1.1"], ["--along = 1.1", "no limit cycle"]),
+        (["hammond-relief-valve", "--speed", "100", "--threshold"], ["--speed", "no threshold is predicted"]),
+        (
+            ["hammond-relief-valve", "--speed", "264.34", "--threshold", "--along", "1.1"],
+            ["leave out --along"],
+        ),
+        (
+            ["hammond-relief-valve", "--speed", "264.34", "--threshold", "--steps", "40"],
+            ["--steps = 40", "0 to 12"],
+        ),
+        (
+            ["hammond-relief-valve", "--speed", "264.34", "--time", "10", "--window", "6"],
+            ["--window = 6.0", "half"],
+        ),
+        (["hammond-relief-valve", "--speed", "264.34", "--initial", "x=3"], ["--initial", "+-1"]),
+    ],
+)
+def test_groundres_simulate_refuses_what_a_nonlinear_run_cannot_do(tmp_path, args, words):
+    result = _cli("simulate", *args, "--out", str(tmp_path / "out"))
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert all(w in text for w in words), text
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()
+
+
+def test_a_table_law_cannot_be_run_and_says_why(tmp_path):
+    law = (
+        '\n[rotor.lag_damper]\nlaw = "table"\namplitudes = [0.1, 1.0]\nstorage_stiffness = [1e4, 8e3]\n'
+        "loss_stiffness = [2e4, 3e4]\nreference_frequency = 1.0\n"
+    )
+    text, _ = case_text("hammond-1974")
+    path = tmp_path / "case.toml"
+    path.write_text(text.replace("lag_damping = 4067.5           # [N m s/rad]", "") + law)
+    result = _cli("simulate", str(path), "--speed", "260", "--out", str(tmp_path / "out"))
+    assert result.exit_code == 2 and "cannot be simulated" in " ".join(result.output.split())
+
+
+def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):
+    path = _file(tmp_path, "confirm = [264.34]\n\n[simulation]\nduration = 20.0\n")
+    text = (tmp_path / "case.toml").read_text().replace("points = 100", "points = 4")
+    (tmp_path / "case.toml").write_text(text)
+    out = tmp_path / "out"
+    result = _cli("cycles", path, "--out", str(out))
+    assert result.exit_code == 0, result.output
+    (entry,) = json.loads((out / "limit_cycles.json").read_text())["confirmations"]
+    assert entry["confirmed"] and not entry["stable"]
+    assert [r["verdict"] for r in entry["runs"]] == ["decays", "grows"]
+    assert "the threshold of 2.38 deg is confirmed: 0.8 times it decays, 1.25 times it grows" in " ".join(
+        result.output.split()
+    )
+
+
+def test_search_threshold_names_the_bracket(relief):
+    cycle, bracket = search_threshold(relief, SPEED, steps=1, duration=20.0)
+    assert not cycle.stable and bracket[0] < bracket[1] and bracket[0] >= 0.8 and bracket[1] <= 1.25
