@@ -580,3 +580,47 @@ def test_a_boundary_along_a_range_of_one_value_is_refused_before_any_work(tmp_pa
     )
     assert result.exit_code == 2 and "needs two different ends" in result.output
     assert not (tmp_path / "o").exists()
+
+
+def test_a_law_s_keys_vary_its_limit_cycles_each_as_the_prediction_on_that_case():
+    """Issue 26, item 6: a study of a relief valve's relief moment records the smallest threshold
+    and the largest stable cycle (NaN without one) at every point, with one damper failed too
+    (the Floquet route, each blade at its own amplitude), equal to the prediction on the case with
+    that value written in; a linear case records NaN."""
+    import math
+
+    from groundres.assess.limit_cycles import predict
+    from groundres.model.casefile import case_text
+
+    text = (
+        case_text("hammond-relief-valve")[0]
+        .replace("points = 100", "points = 6")
+        .replace("points = 400", "points = 30")
+    )
+    ds = study(
+        parse_case(tomllib.loads(text), "relief", text),
+        {"rotor.lag_damper.relief_moment": [600.0, 1000.0]},
+        failures="single",
+    )
+    assert ds["rotor.lag_damper.relief_moment"].attrs["units"] == "N m"
+    assert ds.smallest_threshold.attrs["units"] == "rad"
+    for moment in (600.0, 1000.0):
+        for failure in ("none", "blade 1"):
+            written = text.replace("relief_moment = 813.5", f"relief_moment = {moment!r}")
+            if failure != "none":
+                written += '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
+            case = parse_case(tomllib.loads(written), "relief", written)
+            speeds = np.linspace(case.sweep.start, case.sweep.stop, 6)
+            thresholds = [
+                c for c in predict(case, speeds, searched=case.limit_cycle.searched).cycles if not c.stable
+            ]
+            point = ds.sel({"rotor.lag_damper.relief_moment": moment, "failure": failure})
+            smallest = min(thresholds, key=lambda c: c.amplitude)
+            assert float(point.smallest_threshold) == pytest.approx(smallest.amplitude, rel=1e-9)
+            assert float(point.smallest_threshold_speed) == smallest.speed
+            assert math.isnan(float(point.largest_stable_cycle))
+    # the threshold rises with the relief moment
+    assert float(ds.smallest_threshold.sel(failure="none")[1]) > float(
+        ds.smallest_threshold.sel(failure="none")[0]
+    )
+    assert np.isnan(study(small_case(), {"rotor.lag_damping": [4067.5]}).smallest_threshold.values).all()

@@ -26,6 +26,8 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from .damper_laws import UNITS as LAW_UNITS
+
 #: rad/s per unit of rotor speed a case file may use.
 SPEED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 #: How a frequency reads in a case whose speeds are in each unit (rpm: cycles/min).
@@ -125,6 +127,8 @@ def key_unit(key: str, sweep_unit: str = "rad/s") -> str:
         return sweep_unit
     if key.startswith("rotor.damper"):
         return ROD_UNITS.get(name, "m")
+    if ".lag_damper." in key or key.startswith("rotor.lag_damper."):  # (a law's keys)
+        return LAW_UNITS.get(name, "")
     if key.startswith("aero."):
         return AERO_UNITS.get(name, "")
     if name.startswith(("position_", "centre_", "start_", "end_")):

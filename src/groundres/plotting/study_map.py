@@ -14,6 +14,7 @@ More keys: small multiples over the third key's values (the worst failure).
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.ticker import ScalarFormatter
 
 from .titles import figure_title
 
@@ -100,7 +101,7 @@ def study_map(ds, design: dict | None = None, deutsch=None, title: str = ""):
     keys = [d for d in ds.growth_margin.dims if d != _FAILURE]
     failures = list(ds[_FAILURE].values) if _FAILURE in ds.dims else []
     if len(keys) == 1:
-        fig = Figure(figsize=(8.0, 6.5), layout="constrained")
+        fig = Figure(figsize=(8.0, 9.0 if _has_cycles(ds) else 6.5), layout="constrained")
         _one_key(fig, ds, keys[0], failures, design)
     else:
         panels = _panels(ds, keys, failures)
@@ -200,7 +201,9 @@ def _two_keys(ax, part, xkey, ykey, scale, design, deutsch):
 
 
 def _one_key(fig, ds, key, failures, design):
-    ax_real, ax_ratio = fig.subplots(2, 1, sharex=True)
+    cycles = _has_cycles(ds)
+    axes = fig.subplots(3 if cycles else 2, 1, sharex=True)
+    ax_real, ax_ratio = axes[0], axes[1]
     x = np.asarray(ds[key], float)
     series = failure_groups(ds) if failures else [("", ds)]
     for name, part in series:
@@ -218,13 +221,42 @@ def _one_key(fig, ds, key, failures, design):
     ax_ratio.axhline(0.0, color="black", linewidth=0.8)
     ax_real.set_ylabel("growth margin [1/s]\n(largest real part of the vibrating modes)")
     ax_ratio.set_ylabel("least damping ratio over the\noperating range [%]")
-    ax_ratio.set_xlabel(_label(ds, key))
-    for ax in (ax_real, ax_ratio):
+    if cycles:
+        _cycle_panel(axes[2], x, series, failures)
+    axes[-1].set_xlabel(_label(ds, key))
+    for ax in axes:
         if design and key in design:
             ax.axvline(design[key], color="goldenrod", linestyle=":", label="design point")
         ax.grid(alpha=0.3)
     if ax_real.get_legend_handles_labels()[0]:
         ax_real.legend(fontsize=8)
+
+
+def _has_cycles(ds) -> bool:
+    """Whether a study holds limit cycles (a case with a nonlinear lag damper law)."""
+    return any(
+        name in ds and np.isfinite(ds[name].values).any()
+        for name in ("smallest_threshold", "largest_stable_cycle")
+    )
+
+
+def _cycle_panel(ax, x, series, failures):
+    """The smallest threshold (dashed) and the largest stable cycle (solid) against the key [deg]."""
+    for i, (name, part) in enumerate(series):
+        color = f"C{i}"
+        suffix = f" ({name})" if failures else ""
+        for variable, style, words in (
+            ("smallest_threshold", "--", "smallest threshold"),
+            ("largest_stable_cycle", "-", "largest stable cycle"),
+        ):
+            values = np.degrees(np.asarray(part[variable].values, float))
+            if np.isfinite(values).any():
+                ax.plot(x, values, style, marker=".", color=color, label=words + suffix)
+    ax.set_yscale("log")
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(ScalarFormatter())
+    ax.set_ylabel("limit cycles: lag amplitude of\nthe blade that moves most [deg]")
+    ax.legend(fontsize=8)
 
 
 def boundary_map(ds, keys, design: dict | None = None, deutsch=None, title: str = ""):

@@ -7,7 +7,10 @@ the design on both sides of the stability boundary and are continuous across
 it, so that a map can draw the boundary between its points), the unstable
 ranges (ends to 1e-10 relative) and the refined worst values of every root,
 all from :func:`groundres.analyze`, without the exact lag-damping search,
-which a study's own grid replaces.
+which a study's own grid replaces. A case whose lag dampers follow a nonlinear
+law also records its limit cycles (:func:`groundres.assess.limit_cycles.predict`
+over ``[limit_cycle]``): the smallest threshold and the largest stable cycle,
+each with its speed, so that a study maps them against the law's keys.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import math
 import numpy as np
 
 from ..analysis import analyze
+from ..assess.limit_cycles import predict
 from ..errors import CaseError, MethodError, ModelRangeError, SpeedRangeError
 
 #: name -> (dtype, units, long_name): the data variables of a study.
@@ -34,6 +38,20 @@ MEASURES = {
     "unstable_width": ("f8", "rad/s", "total width of the unstable rotor-speed ranges"),
     "first_unstable_speed": ("f8", "rad/s", "lowest rotor speed of an unstable range (NaN if stable)"),
     "stable": ("bool", "1", "no root grows anywhere in the sweep"),
+    "smallest_threshold": (
+        "f8",
+        "rad",
+        "least lag amplitude above which a disturbance grows (an unstable limit cycle), over the limit-cycle "
+        "speeds; NaN: none, or no nonlinear lag damper law",
+    ),
+    "smallest_threshold_speed": ("f8", "rad/s", "rotor speed of the smallest threshold"),
+    "largest_stable_cycle": (
+        "f8",
+        "rad",
+        "largest lag amplitude of a stable limit cycle over the limit-cycle speeds; NaN: none, or no "
+        "nonlinear lag damper law",
+    ),
+    "largest_stable_cycle_speed": ("f8", "rad/s", "rotor speed of the largest stable cycle"),
 }
 #: Why a grid point has no measures ("" where it has).
 ERROR = "error"
@@ -76,7 +94,34 @@ def of_case(case) -> dict:
         "unstable_width": float(sum(b - a for a, b in ranges)),
         "first_unstable_speed": float(ranges[0][0]) if ranges else math.nan,
         "stable": bool(stability.stable),
+        **cycle_measures(case),
     }
+
+
+def cycle_measures(case) -> dict:
+    """The smallest threshold and the largest stable limit cycle of a case with a nonlinear lag damper
+    law over ``[limit_cycle]``'s speeds and amplitudes (amplitudes of the blade that moves most, rad);
+    NaN without a law or without such a cycle."""
+    names = (
+        "smallest_threshold",
+        "smallest_threshold_speed",
+        "largest_stable_cycle",
+        "largest_stable_cycle_speed",
+    )
+    out = dict.fromkeys(names, math.nan)
+    if not case.rotor.nonlinear:
+        return out
+    options = case.limit_cycle
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
+    cycles = predict(case, speeds, searched=options.searched).cycles
+    thresholds, stable = [c for c in cycles if not c.stable], [c for c in cycles if c.stable]
+    if thresholds:
+        worst = min(thresholds, key=lambda c: c.amplitude)
+        out["smallest_threshold"], out["smallest_threshold_speed"] = worst.amplitude, worst.speed
+    if stable:
+        largest = max(stable, key=lambda c: c.amplitude)
+        out["largest_stable_cycle"], out["largest_stable_cycle_speed"] = largest.amplitude, largest.speed
+    return out
 
 
 def failed(err: Exception) -> str:
