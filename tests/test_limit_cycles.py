@@ -196,6 +196,7 @@ def test_groundres_cycles_writes_the_diagram_the_json_and_the_threshold_in_words
     assert {p.name for p in out.iterdir()} == {
         "limit_cycles.png",
         "limit_cycles.json",
+        "limit_cycles.nc",
         "case.toml",
         "provenance.json",
     }
@@ -210,6 +211,15 @@ def test_groundres_cycles_writes_the_diagram_the_json_and_the_threshold_in_words
         math.degrees(c.amplitude) for c in found.prediction.cycles
     ]
     assert all(not c["stable"] for c in data["cycles"])
+    import xarray as xr
+
+    with xr.open_dataset(out / "limit_cycles.nc") as ds:  # (the same cycles, SI, with their branches)
+        assert ds.cycle_amplitude.attrs["units"] == "rad" and ds.hub_y.attrs["units"] == "m"
+        np.testing.assert_allclose(
+            np.degrees(ds.cycle_amplitude.values), [c["amplitude"] for c in data["cycles"]]
+        )
+        np.testing.assert_allclose(ds.blade_amplitude.values[:, 0], ds.cycle_amplitude.values, rtol=1e-12)
+        assert ds.growth.shape == (12, ds.sizes["amplitude"]) and (ds.branch.values >= 0).all()
 
 
 @pytest.mark.parametrize(

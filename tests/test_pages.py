@@ -129,6 +129,29 @@ def test_report_is_valid_self_contained_and_its_numbers_are_summary_json(tmp_pat
         assert summary["stable"]
 
 
+def test_a_report_of_nonlinear_dampers_has_a_limit_cycle_section_with_its_numbers(tmp_path):
+    """Issue 26, item 4: a case with a nonlinear law gets the limit cycles in the report, their
+    words those of groundres cycles, the page still self-contained; a linear case gets none."""
+    from groundres import limit_cycles, load_case
+
+    out = tmp_path / "report"
+    res = cli("report", "hammond-relief-valve", "--out", str(out))
+    assert res.exit_code == 0, res.output
+    facts = page_facts(out / "index.html")
+    check_self_contained(facts)
+    assert "cycles" in facts.sections and (out / "limit_cycles.png").read_bytes()[:4] == b"\x89PNG"
+    found = limit_cycles(load_case("hammond-relief-valve"), linear=False)
+    page = " ".join((out / "index.html").read_text().split())
+    assert found.threshold_words(found.smallest_threshold()) in page.replace("&#39;", "'")
+    assert "The other sections are linear" in page
+    plain = tmp_path / "plain"
+    assert cli("report", "hammond-1974", "--out", str(plain)).exit_code == 0
+    assert (
+        "cycles" not in page_facts(plain / "index.html").sections
+        and not (plain / "limit_cycles.png").exists()
+    )
+
+
 def test_report_svg_and_a_study_folder(tmp_path):
     """--format svg embeds and writes svg; --study embeds the study's map and names what it varied."""
     import xarray as xr

@@ -38,7 +38,8 @@ def command(case, out, fmt):
     equivalent linear system (each law's describing function) has a neutral root: stable cycles,
     on which the motion settles, and unstable ones, thresholds above which a disturbance grows.
     Writes limit_cycles.<format> (the limit-cycle diagram beside the Coleman diagram of the
-    linear analysis; png unless --format says), limit_cycles.json, case.toml and provenance.json.
+    linear analysis; png unless --format says), limit_cycles.json, limit_cycles.nc (the scan and
+    the cycles with their branches), case.toml and provenance.json.
     """
     from ..analysis import limit_cycles
     from ..results import files, folders
@@ -53,9 +54,10 @@ def command(case, out, fmt):
             with steps.step("write"):
                 files.write_figure(found.plot(), folder / f"limit_cycles.{fmt}")
             files.write_json(folder / "limit_cycles.json", found.to_dict())
+            files.write_netcdf(found, folder / "limit_cycles.nc")
             folders.write_provenance(folder, the_case, command="cycles", **invocation())
     _print(console, found)
-    console.print(f"Wrote {plain(str(out_dir))}/ (limit_cycles.{fmt}, limit_cycles.json)")
+    console.print(f"Wrote {plain(str(out_dir))}/ (limit_cycles.{fmt}, limit_cycles.json, limit_cycles.nc)")
 
 
 def _print(console, found) -> None:

@@ -170,11 +170,16 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
     from ..analysis import analyze
     from ..results import files, folders
 
-    with Steps(console, {**STAGES, "page": "Writing the report"}) as steps:
+    with Steps(console, {**STAGES, "limit cycles": "Limit cycles", "page": "Writing the report"}) as steps:
         with method_named():
             result = analyze(the_case, frame=frame, method=method, progress=steps.callback)
         plot["modes"] = check_modes(modes, result.labels)
         check_scale(result, speed_axis=speed_axis)
+        cycles = None
+        if the_case.rotor.nonlinear:  # (a section of their own: the laws as they are)
+            from ..analysis import limit_cycles
+
+            cycles = limit_cycles(the_case, linear=False, progress=steps.callback)
         with steps.step("page"), folders.output_folder(out_dir, out_name(out)) as folder:
             warm.join()
             from ..pages.report import report_page
@@ -188,6 +193,7 @@ def command(case, out, fmt, study, frame, method, speed_axis, frequency_limits, 
                 study=study_dir,
                 command_line=shlex.join(["groundres", *meta["argv"]]),
                 plot=plot,
+                cycles=cycles,
             )
             files.write_json(folder / "summary.json", summary)
             for file_name, data in pictures.items():

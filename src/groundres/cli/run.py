@@ -139,7 +139,7 @@ def _write_all(
 
     files.write_json(out_dir / "summary.json", summary)
     files.write_modes_csv(result, out_dir / "modes.csv")
-    files.write_modes_netcdf(result, out_dir / "modes.nc")
+    files.write_netcdf(result, out_dir / "modes.nc")
     if warm is not None:
         warm.join()
     files.write_figure(result.plot(**plot), out_dir / f"coleman.{fmt}")

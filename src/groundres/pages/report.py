@@ -139,6 +139,64 @@ def phasor_section(result, summary: dict, fmt: str) -> dict | None:
     }
 
 
+#: Speeds a report's limit-cycle table shows at most.
+CYCLE_ROWS = 10
+
+
+def cycle_section(found, fmt: str) -> dict:
+    """The limit cycles of a case with nonlinear lag dampers (a
+    :class:`~groundres.results.limit_cycles.LimitCycleResult`): the diagram, the smallest
+    threshold and the largest stable cycle in words, the verdict at a few speeds, and the notes."""
+    from ..results.damper_laws import SMALL_MOTION_NOTE
+
+    p, sweep = found.prediction, found.case.sweep
+    shown = np.unique(np.linspace(0, len(p.speeds) - 1, min(CYCLE_ROWS, len(p.speeds))).round().astype(int))
+    worst, largest = found.smallest_threshold(), found.largest_stable()
+    linear = SMALL_MOTION_NOTE.replace("this analysis is linear", "The other sections are linear")
+    notes = [linear + "; this section takes the laws as they are, through their describing functions"]
+    poor = [c for c in p.cycles if c.poor]
+    if poor:
+        notes.append(
+            f"At {len(poor)} of the cycles the single-harmonic approximation is poor (a second frequency "
+            "component above 0.2 of the first): read them as estimates"
+        )
+    if any(c.large for c in p.cycles):
+        notes.append(
+            "Some cycles exceed 10 deg, beyond the small angles the structure holds: there, and wherever the "
+            "motion grows without bound, read 'until something not modelled stops it'"
+        )
+    if found.regularised():
+        notes.append(
+            "The friction link's regularisation moves some cycles by more than 5 % (limit_cycles.json)"
+        )
+    return {
+        "picture": picture(found.plot(), fmt),
+        "threshold": found.threshold_words(worst) if worst is not None else None,
+        "stable": found.stable_words(largest) if largest is not None else None,
+        "rows": [
+            {
+                "speed": fmt_speed(p.speeds[i], sweep),
+                "verdict": p.verdict(int(i)),
+                "thresholds": _amplitudes(p.at(float(p.speeds[i])), stable=False),
+                "stable": _amplitudes(p.at(float(p.speeds[i])), stable=True),
+            }
+            for i in shown
+        ],
+        "method": found.method,
+        "notes": notes,
+        "confirmations": [found.confirmation_words(e) for e in found.confirmations],
+    }
+
+
+def _amplitudes(cycles, stable: bool) -> str:
+    """'2.38' or '0.914, 4.77' [deg]: the cycles of one stability at a speed, smallest first."""
+    return ", ".join(
+        f"{np.degrees(c.amplitude):.3g}"
+        for c in sorted(cycles, key=lambda c: c.amplitude)
+        if c.stable is stable
+    )
+
+
 #: How the accuracy record's entries read on a page (name with its unit); others by their key.
 ACCURACY_NAMES = {
     "roots": "roots",
@@ -344,6 +402,7 @@ def report_page(
     command_line: str = "",
     plot: dict | None = None,
     summary: dict | None = None,
+    cycles=None,
 ) -> tuple[str, dict[str, bytes]]:
     """The HTML report of a :class:`~groundres.results.sweep.SweepResult`, and the pictures to
     write beside it.
@@ -352,7 +411,9 @@ def report_page(
     ``phasors.<fmt>``) to their bytes. The page embeds the pictures itself.
     ``plot``: keyword arguments of :meth:`~groundres.results.sweep.SweepResult.plot`
     for the Coleman diagram (speed axis, limits, modes); ``summary``: the result's
-    :meth:`~groundres.results.sweep.SweepResult.summary`, where the caller has it.
+    :meth:`~groundres.results.sweep.SweepResult.summary`, where the caller has it; ``cycles``: the
+    case's limit cycles (:func:`groundres.analysis.limit_cycles`, a case with nonlinear lag
+    dampers), drawn in a section of their own (``limit_cycles.<fmt>``).
     """
     case = result.case
     sweep = case.sweep
@@ -362,6 +423,9 @@ def report_page(
     files = {f"coleman.{fmt}": coleman["bytes"]}
     if phasors is not None:
         files[f"phasors.{fmt}"] = phasors["picture"]["bytes"]
+    limit = cycle_section(cycles, fmt) if cycles is not None else None
+    if limit is not None:
+        files[f"limit_cycles.{fmt}"] = limit["picture"]["bytes"]
     ranges = [
         {
             "start": speed(r["start"], f"unstable_ranges.{i}.start", sweep),
@@ -389,6 +453,7 @@ def report_page(
         "lag": lag,
         "coleman": coleman,
         "phasors": phasors,
+        "cycles": limit,
         "study": study_section(Path(study), case.text) if study is not None else None,
         "accuracy": accuracy_rows(result.accuracy),
         "command_line": command_line,

@@ -152,8 +152,9 @@ def write_differences(comparison, folder: str | Path, rows=None) -> None:
     write_json(Path(folder) / "differences.json", comparison.differences_record(rows))
 
 
-def write_modes_netcdf(result, path: str | Path) -> None:
-    """Write ``result.dataset()`` as NetCDF-4 (readable by xarray.open_dataset).
+def write_netcdf(result, path: str | Path) -> None:
+    """Write ``result.dataset()`` as NetCDF-4 (readable by xarray.open_dataset): modes.nc of a
+    sweep, limit_cycles.nc of a limit-cycle analysis.
 
     netCDF4 is used directly rather than through xarray: the file is the same
     and the command line starts half a second faster.

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..assess.cycle_shapes import LARGE, POOR
 from ..assess.limit_cycles import multiblade_applies
 from ..model.describing import link_regularisation
@@ -225,6 +227,24 @@ class LimitCycleResult:
                     del open_[key]
         return out
 
+    def dataset(self):
+        """The cycles as plain arrays, ``(coords, variables, attrs)`` as a sweep's
+        (:meth:`groundres.results.sweep.SweepResult.dataset`): behind :meth:`to_xarray` and
+        limit_cycles.nc. Dimensions ``speed`` and ``amplitude`` (the scan: ``growth``), ``cycle``
+        (every cycle, with its ``branch``; ``hub_x`` ... each body coordinate's) and ``blade``; SI units."""
+        return cycle_dataset(self)
+
+    def to_xarray(self):
+        """:meth:`dataset` as an xarray Dataset."""
+        import xarray as xr
+
+        coords, variables, attrs = self.dataset()
+        return xr.Dataset(
+            {k: (d, v, a) for k, (d, v, a) in variables.items()},
+            coords={k: (d, v, a) for k, (d, v, a) in coords.items()},
+            attrs=attrs,
+        )
+
     def plot(self, fig=None):
         """The limit-cycle diagram beside the Coleman diagram (a matplotlib Figure)."""
         from ..plotting.limit_cycles import limit_cycle_figure
@@ -242,3 +262,102 @@ def _blade(blade) -> dict:
         "equivalent_damping": blade.damping,
         "equivalent_stiffness": blade.stiffness,
     }
+
+
+def cycle_dataset(result) -> tuple:
+    """(coords, variables, attrs) of :meth:`LimitCycleResult.dataset`."""
+    p, case = result.prediction, result.case
+    cycles = p.cycles
+    branch = np.full(len(cycles), -1)
+    index = {id(c): i for i, c in enumerate(cycles)}
+    for b, (_, members) in enumerate(result.branches()):
+        for c in members:
+            branch[index[id(c)]] = b
+    dofs = list(case.body.dofs)
+    n_b = case.rotor.n_blades
+
+    def column(get, dtype=float):
+        return np.array([get(c) for c in cycles], dtype=dtype).reshape(len(cycles))
+
+    def per_blade(get):
+        return np.array([[get(b) for b in c.blades] for c in cycles], float).reshape(len(cycles), n_b)
+
+    coords = {
+        "speed": (("speed",), np.asarray(p.speeds, float), {"units": "rad/s", "long_name": "rotor speed"}),
+        "amplitude": (
+            ("amplitude",),
+            np.asarray(p.amplitudes, float),
+            {"units": "rad", "long_name": "lag amplitude of the blade that moves most, as scanned"},
+        ),
+        "blade": (("blade",), np.arange(1, n_b + 1), {"long_name": "blade index"}),
+    }
+    nan = float("nan")
+    variables = {
+        "growth": (
+            ("speed", "amplitude"),
+            np.asarray(p.growth, float),
+            {
+                "units": "1/s",
+                "long_name": "largest real part of a root with lag motion of the equivalent system",
+            },
+        ),
+        "cycle_speed": (
+            ("cycle",),
+            column(lambda c: c.speed),
+            {"units": "rad/s", "long_name": "rotor speed"},
+        ),
+        "cycle_amplitude": (
+            ("cycle",),
+            column(lambda c: c.amplitude),
+            {"units": "rad", "long_name": "largest lag component of the blade that moves most"},
+        ),
+        "cycle_peak": (
+            ("cycle",),
+            column(lambda c: c.peak),
+            {"units": "rad", "long_name": "half peak-to-peak"},
+        ),
+        "stable": (
+            ("cycle",),
+            column(lambda c: c.stable, np.int8),
+            {"long_name": "1 stable cycle, 0 threshold"},
+        ),
+        "branch": (("cycle",), branch, {"long_name": "branch of neighbouring speeds the cycle lies on"}),
+        "frequency_rotating": (
+            ("cycle",),
+            column(lambda c: c.frequency),
+            {"units": "rad/s", "long_name": "the cycle's frequency in the rotating frame"},
+        ),
+        "frequency_nonrotating": (
+            ("cycle",),
+            column(lambda c: c.nonrotating_frequency),
+            {"units": "rad/s", "long_name": "the cycle's frequency in the nonrotating frame"},
+        ),
+        "second_component": (
+            ("cycle",),
+            column(lambda c: c.second_component),
+            {"units": "1", "long_name": "second lag component over the largest"},
+        ),
+        "blade_amplitude": (
+            ("cycle", "blade"),
+            per_blade(lambda b: b.amplitude),
+            {"units": "rad", "long_name": "each blade's largest lag component"},
+        ),
+        "blade_equivalent_damping": (
+            ("cycle", "blade"),
+            per_blade(lambda b: nan if b.damping is None else b.damping),
+            {"units": "N m s/rad", "long_name": "each blade's equivalent lag damper (NaN: no law)"},
+        ),
+    }
+    for d in dofs:  # (each body coordinate in its own unit)
+        variables[f"hub_{d}"] = (
+            ("cycle",),
+            column(lambda c, d=d: c.hub.get(d, nan)),
+            {"units": unit_of("body", d), "long_name": f"hub {d}: its largest component on the cycle"},
+        )
+    attrs = {
+        "title": case.title,
+        "method": result.method,
+        "Conventions": "CF-1.8",
+        "notes": " | ".join(NOTES),
+    }
+    return coords, variables, attrs
