@@ -220,3 +220,20 @@ def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):
 def test_search_threshold_names_the_bracket(relief):
     cycle, bracket = search_threshold(relief, SPEED, steps=1, duration=20.0)
     assert not cycle.stable and bracket[0] < bracket[1] and bracket[0] >= 0.8 and bracket[1] <= 1.25
+
+
+def test_a_stable_cycle_s_confirming_run_starts_below_a_threshold_over_it():
+    """hammond-friction-link with blade 1's damper failed, at 160.6 rpm: a stable cycle of 3.82 deg
+    (blade 1) with a threshold at 5.74 deg just above; 1.5 times the cycle is beyond the threshold
+    (a run from there grows), so a confirming run starts halfway to it on a log scale."""
+    from types import SimpleNamespace
+
+    from groundres.assess.confirm import ABOVE, BELOW, stable_start
+
+    cycle = SimpleNamespace(amplitude=1.0)
+    assert stable_start(cycle) == ABOVE
+    assert stable_start(cycle, [SimpleNamespace(amplitude=1.5)]) == pytest.approx(math.sqrt(1.5))
+    assert stable_start(cycle, [SimpleNamespace(amplitude=1.05), SimpleNamespace(amplitude=0.5)]) == BELOW
+    assert stable_start(
+        cycle, [SimpleNamespace(amplitude=1.05), SimpleNamespace(amplitude=0.9)]
+    ) == pytest.approx(math.sqrt(0.9))

@@ -353,8 +353,9 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         cycles = predict(case, list(options.confirm), searched=options.searched).cycles
         for i, cycle in enumerate(cycles):
             report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
+            others = [c for c in cycles if c.speed == cycle.speed and c is not cycle]
             confirmations.append(
-                confirm(case, cycle, case.simulation.duration, case.simulation.window, progress=report)
+                confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
             )
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
     return LimitCycleResult(case, prediction, sweep, confirmations)

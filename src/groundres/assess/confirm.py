@@ -12,7 +12,8 @@ frame (a blade coordinate turns with the rotor) and the body's in the
 nonrotating frame.
 
 :func:`confirm` sets a predicted cycle against runs started along its motion:
-a stable cycle from :data:`ABOVE` times it (settling back to it), a threshold
+a stable cycle from :data:`ABOVE` times it, or nearer where a threshold lies
+close above it (:func:`stable_start`; settling back to it), a threshold
 between :data:`BELOW` (decays) and :data:`ABOVE` (grows) times it
 (:func:`groundres.assess.limit_cycles.bracket_threshold`).
 """
@@ -115,12 +116,27 @@ def default_duration(frequency: float) -> float:
     return PERIODS * 2 * math.pi / max(frequency, 1e-3)
 
 
-def confirm(case, cycle, duration: float | None = None, window: float | None = None, progress=None) -> dict:
+def stable_start(cycle, others=()) -> float:
+    """The factor of a stable ``cycle`` a confirming run starts at: :data:`ABOVE`, or halfway (on a
+    log scale) to the next cycle above at its speed where that is nearer (a threshold there: a run
+    beyond it would grow, not return), or from below where the cycle above is very near."""
+    above = [c.amplitude / cycle.amplitude for c in others if c.amplitude > cycle.amplitude * (1 + 1e-9)]
+    below = [c.amplitude / cycle.amplitude for c in others if c.amplitude < cycle.amplitude * (1 - 1e-9)]
+    up = min([ABOVE] + [math.sqrt(r) for r in above])
+    if up >= 1.05:
+        return up
+    return max([BELOW] + [math.sqrt(r) for r in below])
+
+
+def confirm(
+    case, cycle, duration: float | None = None, window: float | None = None, progress=None, others=()
+) -> dict:
     """Set ``cycle`` against runs of the nonlinear equations started along its motion.
 
-    A stable cycle: a run from :data:`ABOVE` times it, its settled amplitude (the blade that moves
-    most) against the predicted. A threshold: runs from :data:`BELOW` and :data:`ABOVE` times it,
-    which should decay and grow. Returns a dict for limit_cycles.json (angles in deg).
+    A stable cycle: a run from :func:`stable_start` times it (:data:`ABOVE`, nearer where another
+    cycle of ``others``, those at its speed, lies close), its settled amplitude (the blade that
+    moves most) against the predicted. A threshold: runs from :data:`BELOW` and :data:`ABOVE` times
+    it, which should decay and grow. Returns a dict for limit_cycles.json (angles in deg).
     """
     from ..solve import nonlinear
     from .limit_cycles import disturbance
@@ -128,7 +144,7 @@ def confirm(case, cycle, duration: float | None = None, window: float | None = N
     duration = default_duration(cycle.frequency) if duration is None else duration
     window = WINDOW_SHARE * duration if window is None else window
     system = nonlinear.structure(case)
-    factors = (ABOVE,) if cycle.stable else (BELOW, ABOVE)
+    factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
     runs = {}
     for i, factor in enumerate(factors):
         report = progress and (lambda done, total, i=i: progress(i * total + done, len(factors) * total))
@@ -149,7 +165,7 @@ def confirm(case, cycle, duration: float | None = None, window: float | None = N
         for f, m in runs.items()
     ]
     if cycle.stable:
-        settled = runs[ABOVE]
+        (settled,) = runs.values()
         out["confirmed"] = settled.verdict == "settled"
         out["settled"] = math.degrees(settled.amplitude)
         out["error"] = settled.amplitude / cycle.amplitude - 1

@@ -46,12 +46,17 @@ from .cycle_shapes import blade_spectra, make_cycle
 ITERATIONS = 30
 SHARE_TOL = 1e-9
 DEPTH = 3
-#: A scan's point may stop short of SHARE_TOL once its unknowns move by at most this.
-LOOSE = 1e-4
+#: A scan's point may stop short of SHARE_TOL once its unknowns move by at most this, and takes
+#: at most SCAN_ITERATIONS steps (the ends of every sign change are evaluated again in full).
+LOOSE = 1e-3
+SCAN_ITERATIONS = 8
 #: Slowest blade frequency the laws are evaluated at, per rotor speed.
 SLOWEST = 1e-3
 #: Laws whose equivalent stiffness changes with amplitude (a stiffness direction each).
 SPRUNG = ("friction-link", "table")
+#: Harmonics of each root's periodic eigenvector kept around its dominant one (the blades' spectra
+#: and the lag content need only the few nearest).
+HARMONICS = 4
 #: A root has lag motion when its lag coordinates hold this share of its largest amplitude.
 LAG_SHARE = 1e-6
 
@@ -164,8 +169,10 @@ class PeriodicEquivalent:
         its own settle, :func:`_settle`); and the state of the last step at every point.
 
         ``sign_only``: a point also stops once its unknowns move by at most :data:`LOOSE` and its
-        g keeps its sign beyond doubt (|g| ten times its last change), which is all a scan
-        needs (the search evaluates the ends of each sign change again, in full).
+        g keeps its sign beyond doubt (|g| ten times its last change), and the transition
+        matrices are integrated to the scan's tolerance
+        (:data:`groundres.solve.floquet.exponents.SCAN_TOLERANCE`): all a scan needs (the search
+        evaluates the ends of each sign change again, in full).
         """
         at, amplitudes = np.asarray(at), np.asarray(amplitudes, dtype=float)
         shares, freq = self._guess(at, amplitudes) if guess is None else (guess[0].copy(), guess[1].copy())
@@ -174,7 +181,7 @@ class PeriodicEquivalent:
 
         def step(active, x):
             share, frequency = _split(x, self.n)
-            found = self._least_stable(amplitudes[active], share, frequency, speeds[active])
+            found = self._least_stable(amplitudes[active], share, frequency, speeds[active], sign_only)
             for key, value in found.items():
                 state.setdefault(key, np.zeros((len(at),) + value.shape[1:], value.dtype))[active] = value
             return _joined(found["shares"], found["frequencies"]), found["root"].real
@@ -185,13 +192,18 @@ class PeriodicEquivalent:
         self._remember(at, amplitudes, shares, freq)
         return state["root"].real, state
 
-    def _least_stable(self, amplitudes, shares, frequencies, speeds) -> dict:
+    def _least_stable(self, amplitudes, shares, frequencies, speeds, rough: bool = False) -> dict:
         """The Floquet root with lag motion of largest real part at every point, the blades at
         ``amplitudes`` times ``shares`` and ``frequencies``, with its blades' spectra."""
         system = self.system
         damping, stiffness = self._values(amplitudes, shares, frequencies, speeds)
         values = np.concatenate([damping[:, self.working], stiffness[:, self.sprung]], axis=1)
-        fs = exponents.solve(system, speeds, damping=values, sym=self.symmetry)
+        # (without the lifted problem: the least stable roots, the only ones the search reads, are
+        # resolved whatever the most damped do; a slow rotor's lifted problem costs twenty times more)
+        options = {"tolerance": exponents.SCAN_TOLERANCE} if rough else {}  # (a scan needs signs)
+        fs = exponents.solve(
+            system, speeds, damping=values, sym=self.symmetry, harmonics=HARMONICS, lift=False, **options
+        )
         coords = system.multiblade_coordinates()
         lag = np.array([c.kind == "lag" for c in coords])
         size = np.abs(fs.harmonics).max(axis=2)  # (m, n, roots)
@@ -247,12 +259,13 @@ def _settle(step, x, sign_only: bool):
     """The fixed point x = G(x) of ``step(active, x) -> (G(x), g)`` at every point, by Anderson
     acceleration of depth :data:`DEPTH` (Walker and Ni 2011, "Anderson acceleration for
     fixed-point iterations"): each point until its unknowns move by at most :data:`SHARE_TOL`,
-    or (``sign_only``) its g keeps its sign beyond doubt; at most :data:`ITERATIONS` steps."""
+    or (``sign_only``) its g keeps its sign beyond doubt; at most :data:`ITERATIONS` steps
+    (:data:`SCAN_ITERATIONS` with ``sign_only``)."""
     x = x.copy()
     active = np.arange(len(x))
     values, residuals = [], []  # (the last steps' G(x) and G(x) - x at every point)
     g_last = np.full(len(x), np.nan)
-    for _ in range(ITERATIONS):
+    for _ in range(SCAN_ITERATIONS if sign_only else ITERATIONS):
         mapped, g = step(active, x[active])
         full_mapped = np.full(x.shape, np.nan)
         full_mapped[active] = mapped

@@ -253,9 +253,10 @@ def solve(
         Accuracy of the transition matrices (:func:`groundres.solve.floquet.transition.integrate`).
     lift : bool
         Solve the lifted problem where the multipliers span many decades. Without
-        it (only with ``harmonics`` = 0) the largest real part is still exact,
-        since the largest multipliers of a product are resolved whatever the
-        smallest do, but the real parts of strongly damped roots are not.
+        it the largest real parts are still exact, and so (with ``harmonics``) are
+        the periodic eigenvectors of those roots, since the largest multipliers of
+        a product are resolved whatever the smallest do; but the real parts and
+        eigenvectors of roots damped many e-folds more than the largest are not.
     progress : callable, optional
         ``progress(done, total)`` in speeds, called as batches of speeds are done.
     damping : float or ndarray (n_s,) or (n_s, d), optional
@@ -366,7 +367,7 @@ def solve(
         # decades spanned over the period: seen in the multipliers (which round-off
         # caps) or expected from the frozen system, with a margin
         spread = np.maximum(size.max(-1) - size.min(-1), 1.25 * (high[idx] - low[idx]) * dt + 2.0)
-        need = np.flatnonzero(spread > LIFT_SPREAD) if lift or harmonics else np.array([], int)
+        need = np.flatnonzero(spread > LIFT_SPREAD) if lift else np.array([], int)
         samples = None
         if harmonics:  # (speeds that need the lifted problem are redone below)
             samples = _sampled_displacements(parts, vec, lam, dt / len(parts), n)
