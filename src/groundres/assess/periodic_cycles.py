@@ -169,7 +169,7 @@ class PeriodicEquivalent:
         its own settle, :func:`_settle`); and the state of the last step at every point.
 
         ``sign_only``: a point also stops once its unknowns move by at most :data:`LOOSE` and its
-        g keeps its sign beyond doubt (|g| ten times its last change), and the transition
+        g keeps its sign beyond doubt (its size ten times its last change), and the transition
         matrices are integrated to the scan's tolerance
         (:data:`groundres.solve.floquet.exponents.SCAN_TOLERANCE`): all a scan needs (the search
         evaluates the ends of each sign change again, in full).

@@ -47,17 +47,17 @@ class NonlinearRun:
     Attributes
     ----------
     case : Case
-    speed : float
+    rotor_speed : float
         [rad/s].
     start : str
         How the run started, in words (the disturbance given).
     measured : Measured
     predicted : list of Cycle
-        The limit cycles predicted at ``speed`` (empty: none, or none predicted for this case).
+        The limit cycles predicted at ``rotor_speed`` (empty: none, or none predicted for this case).
     """
 
     case: object
-    speed: float
+    rotor_speed: float
     start: str
     measured: object
     predicted: list
@@ -88,7 +88,7 @@ class NonlinearRun:
     def words(self) -> str:
         """'at 260 rpm the motion settled on a lag cycle of 6.2 deg (blade 1) ...'."""
         m = self.measured
-        where = fmt_speed(self.speed, self.case.sweep)
+        where = fmt_speed(self.rotor_speed, self.case.sweep)
         if self.history.stopped is not None:
             return (
                 f"at {where} the motion grew until a blade's lag passed {math.degrees(LIMIT):g} deg at "
@@ -112,7 +112,7 @@ class NonlinearRun:
         m, h = self.measured, self.history
         hub_units = {name: unit_of("body", name) for name in m.hub}
         return {
-            "speed": self.speed,
+            "speed": self.rotor_speed,
             "speed_unit": "rad/s",
             "amplitude_unit": "deg",
             "frequency_unit": "rad/s",
