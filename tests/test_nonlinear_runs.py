@@ -27,6 +27,13 @@ def _cli(*args):
     return CliRunner().invoke(main, list(args))
 
 
+def _simulate(out, *options):
+    """groundres simulate on hammond-relief-valve at its smallest threshold's speed, 20 s runs."""
+    return _cli(
+        "simulate", "hammond-relief-valve", "--speed", "264.34", *options, "--time", "20", "--out", str(out)
+    )
+
+
 def _text(extra: str = "", case: str = "hammond-relief-valve") -> str:
     text, _ = case_text(case)
     return text + extra
@@ -110,18 +117,7 @@ def test_confirm_speeds_are_in_the_sweep_s_unit_and_bounded(tmp_path):
 
 def test_groundres_simulate_runs_the_laws_and_writes_what_the_run_shows(tmp_path):
     out = tmp_path / "out"
-    result = _cli(
-        "simulate",
-        "hammond-relief-valve",
-        "--speed",
-        "264.34",
-        "--along",
-        "0.9",
-        "--time",
-        "20",
-        "--out",
-        str(out),
-    )
+    result = _simulate(out, "--along", "0.9")
     assert result.exit_code == 0, result.output
     assert {p.name for p in out.iterdir()} == {
         "simulation.png",
@@ -139,19 +135,7 @@ def test_groundres_simulate_runs_the_laws_and_writes_what_the_run_shows(tmp_path
 
 def test_groundres_simulate_brackets_a_threshold(tmp_path):
     out = tmp_path / "out"
-    result = _cli(
-        "simulate",
-        "hammond-relief-valve",
-        "--speed",
-        "264.34",
-        "--threshold",
-        "--steps",
-        "0",
-        "--time",
-        "20",
-        "--out",
-        str(out),
-    )
+    result = _simulate(out, "--threshold", "--steps", "0")
     assert result.exit_code == 0, result.output
     data = json.loads((out / "threshold.json").read_text())
     assert (data["decays_at"], data["grows_at"]) == (0.8, 1.25)
