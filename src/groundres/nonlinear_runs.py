@@ -16,7 +16,7 @@ import numpy as np
 from .assess import confirm as confirming
 from .assess.limit_cycles import bracket_threshold, disturbance, predict
 from .errors import CaseError, ParameterError
-from .model.params import MAX_DISTURBANCE, Case, SimulationOptions
+from .model.params import MAX_DISTURBANCE, MAX_DURATION, Case, SimulationOptions
 from .model.units import SPEED_UNITS
 from .results.nonlinear_run import NonlinearRun
 from .solve import nonlinear
@@ -112,6 +112,7 @@ def run_nonlinear(
         blade = case.rotor.blades[0]
         frequency = float(blade.lag_frequency(np.array([speed]))[0]) * speed
     run_for = confirming.default_duration(frequency) if given.duration is None else given.duration
+    run_for = min(run_for, MAX_DURATION)
     measured_over = confirming.WINDOW_SHARE * run_for if given.window is None else given.window
     if not measured_over <= run_for / 2:
         raise ParameterError("window", measured_over, f"must be at most half the run ({run_for / 2:g} s)")
@@ -142,4 +143,5 @@ def search_threshold(
         )
     cycle = min(thresholds, key=lambda c: c.amplitude)
     run_for = duration if duration is not None else case.simulation.duration
+    run_for = SimulationOptions(duration=run_for).duration  # (checked: finite, 0 to MAX_DURATION)
     return cycle, bracket_threshold(case, cycle, steps=steps, duration=run_for, progress=progress)

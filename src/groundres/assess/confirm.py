@@ -112,8 +112,11 @@ def _two(parts):
 
 
 def default_duration(frequency: float) -> float:
-    """A run's length [s] for motion at ``frequency`` [rad/s] in the rotating frame."""
-    return PERIODS * 2 * math.pi / max(frequency, 1e-3)
+    """A run's length [s] for motion at ``frequency`` [rad/s] in the rotating frame, at most
+    :data:`groundres.model.params.MAX_DURATION`."""
+    from ..model.params import MAX_DURATION
+
+    return min(PERIODS * 2 * math.pi / max(frequency, 1e-3), MAX_DURATION)
 
 
 def stable_start(cycle, others=()) -> float:
@@ -142,7 +145,7 @@ def confirm(
     from .limit_cycles import disturbance
 
     duration = default_duration(cycle.frequency) if duration is None else duration
-    window = WINDOW_SHARE * duration if window is None else window
+    window = WINDOW_SHARE * duration if window is None else min(window, duration / 2)
     system = nonlinear.structure(case)
     factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
     runs = {}
