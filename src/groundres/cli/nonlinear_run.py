@@ -18,15 +18,14 @@ OPTIONS = {
 }
 
 
-def run(console, case, the_case, w, speed, duration, values, along, window, threshold, steps, out, fmt):
-    """The nonlinear path of ``groundres simulate`` (its options as given; ``w`` [rad/s])."""
+def run(console, the_case, w, speed, duration, values, along, window, threshold, steps, out, out_dir, fmt):
+    """The nonlinear path of ``groundres simulate`` (its options as given; ``w`` [rad/s]; ``out_dir``
+    the folder ``out`` names)."""
     from ..errors import ParameterError
     from ..model.units import fmt_speed
     from ..nonlinear_runs import run_nonlinear, search_threshold
     from ..results import files, folders
-    from .common import output_dir
 
-    out_dir = output_dir(case, out, "simulate")
     check_out(out_dir, out)
     unit = the_case.sweep.unit
     given = {"speed": f"{shown(speed)} {unit}", "duration": repr(duration), "steps": repr(steps)}

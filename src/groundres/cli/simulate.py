@@ -89,7 +89,7 @@ def command(case, speed, duration, initial, along, window, threshold, steps, out
         from .nonlinear_run import run
 
         return run(
-            console, case, the_case, w, speed, duration, values, along, window, threshold, steps, out, fmt
+            console, the_case, w, speed, duration, values, along, window, threshold, steps, out, out_dir, fmt
         )
     if along is not None or window is not None or threshold:
         fail_user("--along, --window and --threshold need nonlinear lag dampers ([rotor.lag_damper])")
