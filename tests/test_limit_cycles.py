@@ -289,3 +289,38 @@ def test_a_friction_link_s_cycles_say_how_far_its_regularisation_may_move_them()
         assert entry["link_regularisation"] == float(
             link_regularisation(law, cycle.amplitude, cycle.frequency)
         )
+
+
+def test_in_air_a_failed_damper_s_equivalent_reassembles_the_small_motion_equations():
+    """Blade 1 failed, friction links on the others, hovering: the split equations plus each
+    working blade's small-motion damper and link spring along its directions are the linear
+    equations of the case at every azimuth. The failed blade trims to another lag angle than
+    the sprung ones; the equations without dampers once took every blade at blade 1's trim
+    (their blades alike), 6e-4 off, and `groundres cycles` stopped with exit 1."""
+    from groundres.assess.periodic_cycles import PeriodicEquivalent
+
+    text, source = case_text("helicopter-hover")
+    line = next(s for s in text.splitlines() if s.startswith("lag_damping"))
+    text = text.replace(line, "") + (
+        '\n[rotor.lag_damper]\nlaw = "friction-link"\nfriction_moment = 200.0\nlink_stiffness = 2.0e4\n'
+        'regularisation_damping = 5.0\ndamping = 253.0\n\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
+    )
+    case = parse_case(tomllib.loads(text), source, text)
+    equivalent = PeriodicEquivalent(case)
+    split = equivalent.system
+    linear = solver_for(case, Method.FLOQUET).system
+    assert not linear.trims_alike and equivalent.working == [1, 2, 3] == equivalent.sprung
+    speeds, psi = np.array([30.0, 44.4]), np.array([0.0, 0.9, 2.5])[:, None]
+    m, c, k = split.matrices(speeds, psi)
+    values = [
+        (lin.lag_damping - off.lag_damping, lin.lag_stiffness - off.lag_stiffness)
+        for lin, off in zip(linear.rotor.blades, split.rotor.blades)
+    ]
+    directions = split.damping_directions
+    for j, blade in enumerate(equivalent.working):
+        c = c + values[blade][0] * directions[j]
+        k = k + values[blade][1] * directions[len(equivalent.working) + j]
+    want = linear.matrices(speeds, psi)
+    assert values[0] == (0.0, 0.0) and min(v[1] for v in values[1:]) > 0
+    for got, wanted in zip((m, c, k), want):
+        assert np.abs(got - wanted).max() <= 1e-10 * np.abs(wanted).max()

@@ -194,7 +194,8 @@ def sources(system) -> list[Source]:
         return out
 
     n_inflow = len(system.inflow_states)
-    blades = [None] if rotor.blades_alike else list(range(system.n_blades))
+    alike = rotor.blades_alike and system.trims_alike  # (each blade at its own trim otherwise)
+    blades = [None] if alike else list(range(system.n_blades))
     hub = trim_module.hub_of(body)
     for k in blades:
         blade = rotor.blades[0 if k is None else k]

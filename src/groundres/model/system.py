@@ -92,6 +92,11 @@ class System:
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
         self._trims = None  # (a TrimTable, made when first asked)
+        #: Whether the trims this system moves about are alike from blade to blade: its blades
+        #: alike but for their dampers (which hold no load at the trim); a system holding
+        #: another's trims (:meth:`holding_trim_of`) has that one's.
+        statics = [replace(b, lag_damping=0.0, flap_damping=0.0) for b in rotor.blades]
+        self.trims_alike = all(b == statics[0] for b in statics[1:])
         self._frozen = None  # (a Trim of one speed: the system frozen at it, see frozen())
         self._frozen_systems = {}
         #: The dampers the lag damping search sizes (:attr:`searched`) that work: those
@@ -314,6 +319,8 @@ class System:
         about that trim."""
         if self.rotor.aero is not None:
             self._trims = other._trim_table()
+            self.trims_alike = other.trims_alike
+            self.__dict__.pop("air_sources", None)
         return self
 
     def lag_damping_split(self) -> System:
