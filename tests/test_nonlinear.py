@@ -25,7 +25,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from groundres.assess import limit_cycles
+from groundres.assess import confirm, limit_cycles
 from groundres.model.casefile import case_text
 from groundres.model.schema import parse_case
 from groundres.model.system import System
@@ -79,7 +79,7 @@ def test_an_unstable_cycle_is_a_threshold_bracketed_by_simulation():
     case = _case('law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 200.0\n')
     (cycle,) = limit_cycles.predict(case, [SPEED]).cycles
     assert not cycle.stable
-    decays, grows = limit_cycles.bracket_threshold(case, cycle, steps=2, duration=20.0)
+    decays, grows = confirm.bracket_threshold(case, cycle, steps=2, duration=20.0)
     assert 0.8 <= decays < grows <= 1.25
     assert decays <= 1.02 and grows >= 0.98
     assert grows / decays == pytest.approx(math.sqrt(math.sqrt(1.25 / 0.8)), rel=1e-12)
@@ -211,4 +211,4 @@ def test_with_a_failed_damper_a_threshold_is_bracketed_by_simulation():
     case = _case(law + FAILED)
     (cycle,) = limit_cycles.predict(case, [330 * 2 * math.pi / 60]).cycles
     assert not cycle.stable and cycle.blades[0].amplitude == max(b.amplitude for b in cycle.blades)
-    assert limit_cycles.bracket_threshold(case, cycle, steps=0, duration=20.0) == (0.8, 1.25)
+    assert confirm.bracket_threshold(case, cycle, steps=0, duration=20.0) == (0.8, 1.25)

@@ -138,7 +138,7 @@ def test_groundres_simulate_brackets_a_threshold(tmp_path):
     result = _simulate(out, "--threshold", "--steps", "0")
     assert result.exit_code == 0, result.output
     data = json.loads((out / "threshold.json").read_text())
-    assert (data["decays_at"], data["grows_at"]) == (0.8, 1.25)
+    assert (data["below_at"], data["beyond_at"]) == (0.8, 1.25)
     assert data["bracket"] == pytest.approx([0.8 * data["predicted"], 1.25 * data["predicted"]])
     assert "simulated threshold lies between 0.8 and 1.25 times the predicted 2.38 deg" in " ".join(
         result.output.split()
@@ -187,18 +187,87 @@ def test_a_table_law_cannot_be_run_and_says_why(tmp_path):
 
 
 def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):
-    path = _file(tmp_path, "confirm = [264.34]\n\n[simulation]\nduration = 20.0\n")
+    """264.34 rpm: the smallest threshold, confirmed; 100 rpm: no cycle, said so (it was dropped)."""
+    path = _file(tmp_path, "confirm = [264.34, 100.0]\n\n[simulation]\nduration = 20.0\n")
     text = (tmp_path / "case.toml").read_text().replace("points = 100", "points = 4")
     (tmp_path / "case.toml").write_text(text)
     out = tmp_path / "out"
     result = _cli("cycles", path, "--out", str(out))
     assert result.exit_code == 0, result.output
-    (entry,) = json.loads((out / "limit_cycles.json").read_text())["confirmations"]
+    none, entry = json.loads((out / "limit_cycles.json").read_text())["confirmations"]
     assert entry["confirmed"] and not entry["stable"]
     assert [r["verdict"] for r in entry["runs"]] == ["decays", "grows"]
-    assert "the threshold of 2.38 deg is confirmed: 0.8 times it decays, 1.25 times it grows" in " ".join(
-        result.output.split()
+    assert [r["beyond"] for r in entry["runs"]] == [False, True]
+    said = " ".join(result.output.split())
+    assert "the threshold of 2.38 deg is confirmed: 0.8 times it decays, 1.25 times it grows" in said
+    assert none["speed"] == pytest.approx(100 * RPM) and none["runs"] == [] and none["confirmed"] is None
+    assert "at 100 rpm" in said and "no cycle is predicted (decays from any disturbance searched)" in said
+
+
+def test_a_run_below_a_threshold_that_settles_on_the_stable_cycle_under_it_stays_below_it():
+    """hammond-friction-link at 212 rpm: a stable cycle of 1.11 deg under a threshold of 1.94 deg.
+    The run from 0.8 times the threshold settles on the stable cycle (1.116 deg measured over
+    35 s): it stays below the threshold, as a decaying run does (it was read as "did not decay"
+    and the threshold as not confirmed)."""
+    from groundres.assess.confirm import confirm
+    from groundres.assess.limit_cycles import predict
+
+    case = load_case("hammond-friction-link")
+    found = predict(case, [212 * RPM])
+    (under,), (cycle,) = ([c for c in found.cycles if c.stable is s] for s in (True, False))
+    assert math.degrees(cycle.amplitude) == pytest.approx(1.94, abs=0.01)
+    entry = confirm(case, cycle, 35.0, others=[under])
+    below, above = entry["runs"]
+    assert below["verdict"] == "settled" and below["amplitude"] == pytest.approx(
+        math.degrees(under.amplitude), rel=0.02
     )
+    assert not below["beyond"] and above["beyond"] and entry["confirmed"]
+
+
+def test_where_a_run_heads_decides_its_side_of_a_threshold():
+    """A settled run stays where it is; a growing one heads to the nearest stable cycle above it
+    (or without bound), a decaying one to the nearest below (or rest)."""
+    from types import SimpleNamespace
+
+    from groundres.assess.confirm import beyond, destination
+
+    def run(verdict, amplitude):
+        return SimpleNamespace(verdict=verdict, amplitude=amplitude)
+
+    stable = [1.0, 5.0]
+    assert destination(run("settled", 1.1), stable) == 1.1
+    assert destination(run("grows", 2.5), stable) == 5.0
+    assert destination(run("grows", 6.0), stable) == math.inf
+    assert destination(run("decays", 2.5), stable) == 1.0
+    assert destination(run("decays", 0.5), stable) == 0.0
+    threshold = 2.0
+    assert not beyond(run("settled", 1.1), threshold, stable)
+    assert beyond(run("decays", 5.5), threshold, stable)
+    assert beyond(run("grows", 1.5), threshold, []) and not beyond(run("grows", 0.5), threshold, stable)
+
+
+def test_a_measuring_window_over_half_the_run_is_cut_to_half():
+    """Two windows of more than half a run: the earlier one was empty and read as 0, so a settled
+    oscillation was said to grow."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from groundres.assess.confirm import measure
+
+    time = np.linspace(0.0, 10.0, 2001)
+    lag = 0.01 * np.sin(6.0 * time)
+    history = SimpleNamespace(
+        time=time,
+        lag=lambda k: lag,
+        coordinates=[SimpleNamespace(kind="lag", short="lag1")],
+        displacement=lag[:, None],
+        stopped=None,
+        atol=1e-10,
+    )
+    measured = measure(history, 8.0)
+    assert measured.window == 5.0 and measured.verdict == "settled"
+    assert measured.amplitude == pytest.approx(0.01, rel=1e-3)
 
 
 def test_search_threshold_names_the_bracket(relief):

@@ -350,13 +350,21 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
     if options.confirm:  # (each listed speed's cycles against runs of the nonlinear equations)
         from .assess.confirm import confirm
 
-        cycles = predict(case, list(options.confirm), searched=options.searched).cycles
+        at_speeds = predict(case, list(options.confirm), searched=options.searched)
+        cycles = at_speeds.cycles
+        for i, speed in enumerate(at_speeds.speeds):  # (a speed without cycles: said so)
+            if not at_speeds.at(float(speed)):
+                confirmations.append(
+                    {"speed": float(speed), "stable": None, "predicted": None, "confirmed": None, "runs": []}
+                    | {"verdict": at_speeds.verdict(i)}
+                )
         for i, cycle in enumerate(cycles):
             report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
             others = [c for c in cycles if c.speed == cycle.speed and c is not cycle]
             confirmations.append(
                 confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
             )
+        confirmations.sort(key=lambda e: e["speed"])
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
     return LimitCycleResult(case, prediction, sweep, confirmations)
 

@@ -14,7 +14,8 @@ import math
 import numpy as np
 
 from .assess import confirm as confirming
-from .assess.limit_cycles import bracket_threshold, disturbance, predict
+from .assess.confirm import bracket_threshold
+from .assess.limit_cycles import disturbance, predict
 from .errors import CaseError, ParameterError
 from .model.params import MAX_DURATION, Case, SimulationOptions
 from .model.units import SPEED_UNITS
@@ -119,16 +120,19 @@ def search_threshold(
     case: Case, speed: float, *, steps: int = 4, duration: float | None = None, progress=None
 ):
     """Bracket the predicted threshold of least amplitude at ``speed`` [rad/s] by simulation: runs
-    started along it at factors of it, bisected ``steps`` times between one that decays and one
-    that grows (:func:`groundres.assess.limit_cycles.bracket_threshold`).
+    started along it at factors of it, bisected ``steps`` times between one that stays below it
+    and one that heads beyond it (:func:`groundres.assess.confirm.bracket_threshold`).
 
-    Returns (cycle, (decays, grows)): the predicted threshold and the factors of it that bracket
-    the simulated one (an end is None where it did not behave as its side).
+    Returns (cycle, (below, beyond)): the predicted threshold and the factors of it that bracket
+    the simulated one: the largest whose run stays below it (decays, or settles on a stable cycle
+    below it) and the least whose run heads beyond it (an end is None where it did not behave as
+    its side).
     """
     _checked(case, speed)
     if isinstance(steps, bool) or not isinstance(steps, int) or not 0 <= steps <= 12:
         raise ParameterError("steps", steps, "must be a whole number from 0 to 12")
-    thresholds = [c for c in _cycles(case, speed) if not c.stable]
+    cycles = _cycles(case, speed)
+    thresholds = [c for c in cycles if not c.stable]
     if not thresholds:
         unit = case.sweep.unit
         raise ParameterError(
@@ -139,4 +143,6 @@ def search_threshold(
     cycle = min(thresholds, key=lambda c: c.amplitude)
     run_for = duration if duration is not None else case.simulation.duration
     run_for = SimulationOptions(duration=run_for).duration  # (checked: finite, 0 to MAX_DURATION)
-    return cycle, bracket_threshold(case, cycle, steps=steps, duration=run_for, progress=progress)
+    others = [c for c in cycles if c is not cycle]
+    bracket = bracket_threshold(case, cycle, steps=steps, duration=run_for, progress=progress, others=others)
+    return cycle, bracket

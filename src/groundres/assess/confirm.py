@@ -9,13 +9,21 @@ largest component of the blade that moves most, in the last window against
 the one before, says whether the motion still grows, decays, or has settled
 (within :data:`SETTLED` a window). The blades' components are in the rotating
 frame (a blade coordinate turns with the rotor) and the body's in the
-nonrotating frame.
+nonrotating frame. Each window is at most half the run.
+
+Where a run heads (:func:`destination`) says which side of a threshold it
+started on: a run that settled stays where it is, one still growing heads to the
+nearest stable cycle above it (or without bound), one still decaying to the
+nearest below it (or rest). A run started just below a threshold with a stable
+cycle beneath it settles on that cycle: it stays below the threshold as surely
+as one that decays.
 
 :func:`confirm` sets a predicted cycle against runs started along its motion:
 a stable cycle from :data:`ABOVE` times it, or nearer where a threshold lies
 close above it (:func:`stable_start`; settling back to it), a threshold
-between :data:`BELOW` (decays) and :data:`ABOVE` (grows) times it
-(:func:`groundres.assess.limit_cycles.bracket_threshold`).
+between :data:`BELOW` (stays below) and :data:`ABOVE` (heads beyond) times it
+(:func:`bracket_threshold` bisects between such
+runs).
 """
 
 from __future__ import annotations
@@ -27,6 +35,9 @@ import numpy as np
 
 #: Change of the largest component over one window within which a run has settled (relative).
 SETTLED = 0.02
+#: Motion below this many times the integration's absolute tolerance is not a result: a run whose
+#: motion ends below it has decayed (to the integration's resolution).
+RESOLVED = 1000.0
 #: Factors of a predicted cycle the confirming runs start at.
 BELOW, ABOVE = 0.8, 1.25
 #: Default run: periods of the cycle's (or the blade's) rotating-frame frequency, and the part of
@@ -71,6 +82,7 @@ class Measured:
 def measure(history, window: float) -> Measured:
     """Measure the end of ``history`` over two windows of ``window`` [s] (module docstring)."""
     time = history.time
+    window = min(window, (time[-1] - time[0]) / 2)  # (an empty window before would read as growth)
     last = time >= time[-1] - window
     before = (time >= time[-1] - 2 * window) & ~last
     blades = [
@@ -87,13 +99,39 @@ def measure(history, window: float) -> Measured:
     earlier = nonlinear_components(time[before], history.lag(lead + 1)[before], 1)
     was = earlier[0][1] if earlier else 0.0
     now = blades[lead][0][1]
-    if history.stopped is not None or now > (1 + SETTLED) * was:
+    if history.stopped is not None or now > max((1 + SETTLED) * was, RESOLVED * history.atol):
         verdict = "grows"
-    elif now < (1 - SETTLED) * was:
+    elif now < (1 - SETTLED) * was or now <= RESOLVED * history.atol:
         verdict = "decays"
     else:
         verdict = "settled"
     return Measured(blades, hub, float(was), verdict, float(window), history)
+
+
+def destination(measured: Measured, stable=()) -> float:
+    """Where a run is heading, as the amplitude of the blade that moves most [rad] (module
+    docstring): where it settled; for one still growing (or stopped past 90 deg) the nearest of
+    the ``stable`` cycles' amplitudes above it, else inf; for one still decaying the nearest
+    below it, else 0."""
+    now = measured.amplitude
+    if measured.verdict == "settled":
+        return now
+    if measured.verdict == "grows":
+        return min((a for a in stable if a > now), default=math.inf)
+    return max((a for a in stable if a < now), default=0.0)
+
+
+def beyond(measured: Measured, threshold: float, stable=()) -> bool:
+    """Whether a run heads beyond ``threshold`` [rad] (:func:`destination`)."""
+    return destination(measured, stable) > threshold
+
+
+def run_words(run: dict) -> str:
+    """What a run did, from its entry in limit_cycles.json: 'decays', 'grows', 'settles at
+    1.21 deg'."""
+    if run["verdict"] == "settled":
+        return f"settles at {run['amplitude']:.3g} deg"
+    return run["verdict"]
 
 
 def nonlinear_components(time, signal, count: int = 2):
@@ -137,15 +175,18 @@ def confirm(
     """Set ``cycle`` against runs of the nonlinear equations started along its motion.
 
     A stable cycle: a run from :func:`stable_start` times it (:data:`ABOVE`, nearer where another
-    cycle of ``others``, those at its speed, lies close), its settled amplitude (the blade that
-    moves most) against the predicted. A threshold: runs from :data:`BELOW` and :data:`ABOVE` times
-    it, which should decay and grow. Returns a dict for limit_cycles.json (angles in deg).
+    cycle of ``others``, those at its speed, lies close), which should settle nearer it than any
+    other cycle; its settled amplitude (the blade that moves most) against the predicted. A
+    threshold: runs from :data:`BELOW` and :data:`ABOVE` times it, which should stay below it and
+    head beyond it (:func:`beyond`, each run's ``beyond``). Returns a dict for
+    limit_cycles.json (angles in deg).
     """
     from ..solve import nonlinear
     from .limit_cycles import disturbance
 
     duration = default_duration(cycle.frequency) if duration is None else duration
-    window = WINDOW_SHARE * duration if window is None else min(window, duration / 2)
+    window = WINDOW_SHARE * duration if window is None else window
+    stable = [c.amplitude for c in others if c.stable]
     system = nonlinear.structure(case)
     factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
     runs = {}
@@ -164,15 +205,71 @@ def confirm(
             "blade": m.lead,
             "evaluations": m.history.evaluations,
             "method": m.history.method,
+            **({} if cycle.stable else {"beyond": beyond(m, cycle.amplitude, stable)}),
         }
         for f, m in runs.items()
     ]
     if cycle.stable:
         (settled,) = runs.values()
-        out["confirmed"] = settled.verdict == "settled"
+        levels = [c.amplitude for c in others] + [cycle.amplitude]
+        nearest = min(levels, key=lambda a: abs(math.log(settled.amplitude / a)))
+        out["confirmed"] = settled.verdict == "settled" and nearest == cycle.amplitude
         out["settled"] = math.degrees(settled.amplitude)
         out["error"] = settled.amplitude / cycle.amplitude - 1
     else:
-        out["confirmed"] = runs[BELOW].verdict == "decays" and runs[ABOVE].verdict == "grows"
-    out["duration"], out["window"] = duration, window
+        out["confirmed"] = not out["runs"][0]["beyond"] and out["runs"][1]["beyond"]
+    out["duration"], out["window"] = duration, runs[factors[0]].window
     return out
+
+
+def bracket_threshold(
+    case,
+    cycle,
+    low: float = 0.8,
+    high: float = 1.25,
+    steps: int = 4,
+    duration=None,
+    progress=None,
+    others=(),
+):
+    """Bracket an unstable cycle (a threshold) by simulation: start the nonlinear equations
+    (:func:`groundres.solve.nonlinear.integrate`) along ``cycle``'s motion at factors of it and
+    bisect the factor between one that stays below the threshold and one that heads beyond it,
+    ``steps`` times.
+
+    Each run lasts ``duration`` [s] (default 60 periods of the cycle's rotating-frame frequency)
+    and is measured over its last two fifths as a confirming run is
+    (:func:`groundres.assess.confirm.measure`); where it heads (:func:`groundres.assess.confirm.beyond`,
+    the stable cycles among ``others``, the cycles at its speed, its destinations) says its
+    side: a run that settles on a stable cycle below the threshold stays below it. Returns
+    (below, beyond): the factors bracketing the threshold, or None for an end that did not
+    behave as its side (the prediction is then off by more than the bracket).
+    ``progress(done, total)`` counts the runs.
+    """
+    from ..solve import nonlinear
+    from .limit_cycles import disturbance
+
+    system = nonlinear.structure(case)
+    duration = 120 * math.pi / cycle.frequency if duration is None else duration
+    stable = [c.amplitude for c in others if c.stable]
+
+    runs = [0]
+
+    def grows(factor: float) -> bool:
+        runs[0] += 1
+        if progress is not None:
+            progress(runs[0] - 1, steps + 2)
+        history = nonlinear.integrate(
+            case, cycle.speed, duration, disturbance(system, cycle, factor), points=4000
+        )
+        return beyond(measure(history, duration / 5), cycle.amplitude, stable)
+
+    low_grows, high_grows = grows(low), grows(high)
+    if low_grows or not high_grows:
+        return (None if low_grows else low), (high if high_grows else None)
+    for _ in range(steps):
+        mid = math.sqrt(low * high)
+        low, high = (low, mid) if grows(mid) else (mid, high)
+    if progress is not None:
+        progress(steps + 2, steps + 2)
+    return low, high

@@ -83,23 +83,22 @@ def run(console, the_case, w, speed, duration, values, along, window, threshold,
             )
     where = fmt_speed(w, the_case.sweep)
     if threshold:
-        decays, grows = bracket
+        below, beyond = bracket
         predicted = math.degrees(cycle.amplitude)
-        if decays is None or grows is None:
-            side = "decays" if decays is None else "grows"
+        if below is None or beyond is None:
+            started, missed = ("below", "stay below it") if below is None else ("above", "head beyond it")
             console.print(
                 plain(
                     f"At {where} the predicted threshold of {predicted:.3g} deg is not bracketed: the run "
-                    f"started {'below' if side == 'decays' else 'above'} it does not "
-                    f"{'decay' if side == 'decays' else 'grow'} (the prediction is off by more than the "
+                    f"started {started} it does not {missed} (the prediction is off by more than the "
                     "bracket, 0.8 to 1.25 times it)."
                 )
             )
         else:
             console.print(
                 plain(
-                    f"At {where} the simulated threshold lies between {decays:.4g} and {grows:.4g} times the "
-                    f"predicted {predicted:.3g} deg: {decays * predicted:.3g} to {grows * predicted:.3g} deg "
+                    f"At {where} the simulated threshold lies between {below:.4g} and {beyond:.4g} times the "
+                    f"predicted {predicted:.3g} deg: {below * predicted:.3g} to {beyond * predicted:.3g} deg "
                     f"(blade {record['blade']})."
                 )
             )
@@ -122,7 +121,7 @@ def run(console, the_case, w, speed, duration, values, along, window, threshold,
 
 def _threshold_record(cycle, bracket) -> dict:
     """threshold.json: the predicted threshold and the factors of it the runs bracket."""
-    decays, grows = bracket
+    below, beyond = bracket
     blade = 1 + max(range(len(cycle.blades)), key=lambda k: cycle.blades[k].amplitude)
     return {
         "speed": cycle.speed,
@@ -130,13 +129,15 @@ def _threshold_record(cycle, bracket) -> dict:
         "amplitude_unit": "deg",
         "predicted": math.degrees(cycle.amplitude),
         "blade": blade,
-        "decays_at": decays,
-        "grows_at": grows,
+        "below_at": below,
+        "beyond_at": beyond,
         "bracket": [None if f is None else f * math.degrees(cycle.amplitude) for f in bracket],
         "notes": [
-            "runs start along the predicted threshold's motion at factors of it; decays_at and grows_at are "
-            "the factors bracketing the simulated threshold (null: that end did not behave as its side)",
-            "each run is judged on the lag of the blade that moves most: its largest component over the "
-            "run's last fifth against its first fifth",
+            "runs start along the predicted threshold's motion at factors of it; below_at is the largest "
+            "factor whose run stays below the threshold (decays, or settles on a stable cycle below it), "
+            "beyond_at the least whose run heads beyond it (grows, or settles on a stable cycle above "
+            "it); null: that end did not behave as its side",
+            "each run is measured on the blade that moves most, over its last two fifths (the same "
+            "measure as a confirming run's)",
         ],
     }

@@ -92,9 +92,8 @@ class System:
         self._scatter = (np.flatnonzero(own.ravel()), rows[own], cols[own])
         self.grid_cache = {}
         self._trims = None  # (a TrimTable, made when first asked)
-        #: Whether the trims this system moves about are alike from blade to blade: its blades
-        #: alike but for their dampers (which hold no load at the trim); a system holding
-        #: another's trims (:meth:`holding_trim_of`) has that one's.
+        #: Whether its trims are alike from blade to blade: blades alike but for their dampers
+        #: (no load at the trim), or those of the system it holds the trims of.
         statics = [replace(b, lag_damping=0.0, flap_damping=0.0) for b in rotor.blades]
         self.trims_alike = all(b == statics[0] for b in statics[1:])
         self._frozen = None  # (a Trim of one speed: the system frozen at it, see frozen())

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..assess.confirm import run_words
 from ..assess.cycle_shapes import LARGE, POOR
 from ..assess.limit_cycles import multiblade_applies
 from ..model.describing import link_regularisation
@@ -168,6 +169,8 @@ class LimitCycleResult:
         """A confirmation in words: 'at 264 rpm the threshold of 2.38 deg is confirmed: 0.8 times it
         decays, 1.25 times it grows'."""
         where = fmt_speed(entry["speed"], self.case.sweep)
+        if entry["predicted"] is None:
+            return f"at {where} no cycle is predicted ({entry['verdict']}): nothing to confirm"
         runs = {r["factor"]: r for r in entry["runs"]}
         said = "confirmed" if entry["confirmed"] else "not confirmed"
         if entry["stable"]:
@@ -175,14 +178,18 @@ class LimitCycleResult:
             change = f"{100 * entry['error']:+.2g} %"
             return (
                 f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from "
-                f"{run['factor']:g} times it the run {run['verdict']} at {run['amplitude']:.3g} deg "
-                f"({change})"
+                f"{run['factor']:g} times it the run {run_words(run)}"
+                + ("" if run["verdict"] == "settled" else f", {run['amplitude']:.3g} deg at its end")
+                + f" ({change})"
             )
         below, above = (runs[f] for f in sorted(runs))
-        return (
-            f"at {where} the threshold of {entry['predicted']:.3g} deg is {said}: {below['factor']:g} times "
-            f"it {below['verdict']}, {above['factor']:g} times it {above['verdict']}"
-        )
+
+        def did(run):
+            side = "" if run["verdict"] != "settled" else " (beyond it)" if run["beyond"] else " (below it)"
+            return f"{run['factor']:g} times it {run_words(run)}{side}"
+
+        predicted = f"{entry['predicted']:.3g} deg"
+        return f"at {where} the threshold of {predicted} is {said}: {did(below)}, {did(above)}"
 
     def _regularisation(self, cycle) -> dict:
         """A friction link's regularisation at ``cycle``: c_reg A w / F, by which its describing

@@ -15,13 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..assess.confirm import RESOLVED
 from ..model.mbc import unit_of
 from ..model.units import fmt_speed
 from ..solve.nonlinear import LIMIT
 from .simulation import coordinate_unit
-
-#: Motion below this many times the integration's absolute tolerance is not a result.
-RESOLVED = 1000.0
 
 #: Said with every nonlinear run.
 NOTES = (
