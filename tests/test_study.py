@@ -611,16 +611,56 @@ def test_a_law_s_keys_vary_its_limit_cycles_each_as_the_prediction_on_that_case(
                 written += '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
             case = parse_case(tomllib.loads(written), "relief", written)
             speeds = np.linspace(case.sweep.start, case.sweep.stop, 6)
-            thresholds = [
-                c for c in predict(case, speeds, searched=case.limit_cycle.searched).cycles if not c.stable
-            ]
+            found = predict(case, speeds, searched=case.limit_cycle.searched)
+            thresholds = [c for c in found.cycles if not c.stable]
             point = ds.sel({"rotor.lag_damper.relief_moment": moment, "failure": failure})
-            smallest = min(thresholds, key=lambda c: c.amplitude)
-            assert float(point.smallest_threshold) == pytest.approx(smallest.amplitude, rel=1e-9)
-            assert float(point.smallest_threshold_speed) == smallest.speed
+            assert float(point.unbounded_speeds) == len(found.unbounded())
+            if found.unbounded():  # (blade 1 failed: at 242 rpm the linear rotor is unstable)
+                assert failure != "none" and found.unbounded() == [3]
+                assert float(point.smallest_threshold) == 0.0
+                assert float(point.smallest_threshold_speed) == speeds[3]
+            else:
+                smallest = min(thresholds, key=lambda c: c.amplitude)
+                assert float(point.smallest_threshold) == pytest.approx(smallest.amplitude, rel=1e-9)
+                assert float(point.smallest_threshold_speed) == smallest.speed
             assert math.isnan(float(point.largest_stable_cycle))
     # the threshold rises with the relief moment
     assert float(ds.smallest_threshold.sel(failure="none")[1]) > float(
         ds.smallest_threshold.sel(failure="none")[0]
     )
     assert np.isnan(study(small_case(), {"rotor.lag_damping": [4067.5]}).smallest_threshold.values).all()
+
+
+def test_where_any_disturbance_grows_at_some_speed_the_smallest_threshold_is_zero():
+    """hammond-friction-link grows from any disturbance above 1.4 times its reference speed: the
+    smallest threshold is 0 there (a threshold of 1.9 deg at a lower speed, which it used to
+    record, flatters the design), with the number of such speeds, and the map draws them on its
+    floor."""
+    from groundres.assess.limit_cycles import predict
+    from groundres.model.schema import load_case
+    from groundres.plotting.study_map import _cycle_panel
+    from groundres.studies.measures import MEASURES, cycle_measures
+
+    case = load_case("hammond-friction-link")
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, case.limit_cycle.points)
+    found = predict(case, speeds)
+    unbounded = found.unbounded()
+    assert unbounded and all(found.verdict(i) == "grows from any disturbance" for i in unbounded)
+    assert any(not c.stable for c in found.cycles)  # (thresholds at lower speeds)
+    measures = cycle_measures(case)
+    assert measures["smallest_threshold"] == 0.0 and measures["unbounded_speeds"] == len(unbounded)
+    assert measures["smallest_threshold_speed"] == speeds[unbounded[0]]
+    assert "0 where" in MEASURES["smallest_threshold"][2]
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    part = xr.Dataset(
+        {
+            "smallest_threshold": ("p", [0.0, 0.02]),
+            "largest_stable_cycle": ("p", [0.01, 0.015]),
+        }
+    )
+    _cycle_panel(ax, np.array([1.0, 2.0]), [("none", part)], failures=False)
+    floor = [line for line in ax.get_lines() if line.get_marker() == "v"]
+    assert len(floor) == 1 and floor[0].get_xdata()[0] == 1.0
+    assert floor[0].get_ydata()[0] == ax.get_ylim()[0]

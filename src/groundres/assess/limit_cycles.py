@@ -86,6 +86,16 @@ class LimitCycles:
         """The cycles at ``speed`` [rad/s] (one of :attr:`speeds`)."""
         return [c for c in self.cycles if c.speed == speed]
 
+    def unbounded(self) -> list:
+        """Indices of the speeds at which any disturbance grows without bound: the smallest
+        amplitude searched grows and no stable cycle holds it (no threshold there: the least
+        disturbance that diverges is none)."""
+        return [
+            i
+            for i, speed in enumerate(self.speeds)
+            if self.growth[i, 0] > 0 and not any(c.stable for c in self.at(float(speed)))
+        ]
+
     def verdict(self, i: int) -> str:
         """What happens at speed ``i`` in words (without numbers), from the smallest amplitude
         searched up: the cycles in order, stable ones attracting, unstable ones thresholds."""

@@ -72,11 +72,15 @@ def _print(console, found) -> None:
     for i in shown:
         console.print(f"  {plain(fmt_speed(p.speeds[i], sweep))}: {p.verdict(int(i))}")
     worst, largest = found.smallest_threshold(), found.largest_stable()
+    unbounded = found.unbounded_words()
+    if unbounded is not None:
+        console.print(plain(f"Grows from any disturbance: {unbounded}."))
     if worst is not None:
-        console.print(plain(f"Smallest threshold: {found.threshold_words(worst)}."))
+        elsewhere = " (where there is one)" if unbounded is not None else ""
+        console.print(plain(f"Smallest threshold{elsewhere}: {found.threshold_words(worst)}."))
     if largest is not None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))
-    if worst is None and largest is None:
+    if worst is None and largest is None and unbounded is None:
         console.print("No limit cycle within the amplitudes searched.")
     for entry in found.confirmations:
         console.print(plain(f"Simulation: {found.confirmation_words(entry)}."))

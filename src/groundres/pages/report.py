@@ -172,6 +172,7 @@ def cycle_section(found, fmt: str) -> dict:
     return {
         "picture": picture(found.plot(), fmt),
         "threshold": found.threshold_words(worst) if worst is not None else None,
+        "unbounded": found.unbounded_words(),
         "stable": found.stable_words(largest) if largest is not None else None,
         "rows": [
             {

@@ -241,7 +241,9 @@ def _has_cycles(ds) -> bool:
 
 
 def _cycle_panel(ax, x, series, failures):
-    """The smallest threshold (dashed) and the largest stable cycle (solid) against the key [deg]."""
+    """The smallest threshold (dashed) and the largest stable cycle (solid) against the key [deg];
+    a threshold of 0 (at some speed any disturbance grows) as a triangle on the axis's floor."""
+    floors = []
     for i, (name, part) in enumerate(series):
         color = f"C{i}"
         suffix = f" ({name})" if failures else ""
@@ -250,9 +252,26 @@ def _cycle_panel(ax, x, series, failures):
             ("largest_stable_cycle", "-", "largest stable cycle"),
         ):
             values = np.degrees(np.asarray(part[variable].values, float))
-            if np.isfinite(values).any():
-                ax.plot(x, values, style, marker=".", color=color, label=words + suffix)
+            shown = np.where(values > 0, values, np.nan)
+            if np.isfinite(shown).any():
+                ax.plot(x, shown, style, marker=".", color=color, label=words + suffix)
+            if (values == 0).any():
+                floors.append((np.asarray(x)[values == 0], color, suffix))
     ax.set_yscale("log")
+    if floors:
+        if not ax.get_lines():
+            ax.set_ylim(0.01, 10.0)
+        bottom, top = ax.get_ylim()
+        for where, color, suffix in floors:
+            ax.plot(
+                where,
+                np.full(len(where), bottom),
+                "v",
+                color=color,
+                clip_on=False,
+                label="grows from any disturbance at some speed" + suffix,
+            )
+        ax.set_ylim(bottom, top)
     ax.yaxis.set_major_formatter(ScalarFormatter())
     ax.yaxis.set_minor_formatter(ScalarFormatter())
     ax.set_ylabel("limit cycles: lag amplitude of\nthe blade that moves most [deg]")

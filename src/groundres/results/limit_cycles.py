@@ -99,6 +99,21 @@ class LimitCycleResult:
         names = ", ".join(str(k + 1) for k in others)
         return f"{math.degrees(cycle.amplitude):.3g} deg of blade {lead + 1} (blades {names}: {listed} deg)"
 
+    def unbounded_words(self) -> str | None:
+        """'at 12 of the 100 speeds, from 300 to 400 rpm, any disturbance grows without bound (no
+        threshold there)', or None where there is no such speed."""
+        p = self.prediction
+        found = p.unbounded()
+        if not found:
+            return None
+        sweep = self.case.sweep
+        first, last = (fmt_speed(p.speeds[i], sweep) for i in (found[0], found[-1]))
+        where = f"at {first}" if len(found) == 1 else f"from {first} to {last}"
+        return (
+            f"at {len(found)} of the {len(p.speeds)} speeds, {where}, any disturbance grows without bound "
+            "(no threshold there)"
+        )
+
     def threshold_words(self, cycle) -> str:
         """'at 260 rpm a lag disturbance above 0.88 deg (hub x 1.6 mm, y 6.5 mm) grows' ..."""
         beyond = [c for c in self.prediction.at(cycle.speed) if c.amplitude > cycle.amplitude]
@@ -141,6 +156,7 @@ class LimitCycleResult:
             "lag_dampers": laws_block(self.case),
             "speeds": [float(w) for w in p.speeds],
             "verdicts": [p.verdict(i) for i in range(len(p.speeds))],
+            "unbounded_speeds": [float(p.speeds[i]) for i in p.unbounded()],
             "cycles": [
                 {
                     "speed": c.speed,

@@ -42,9 +42,21 @@ MEASURES = {
         "f8",
         "rad",
         "least lag amplitude above which a disturbance grows (an unstable limit cycle), over the limit-cycle "
-        "speeds; NaN: none, or no nonlinear lag damper law",
+        "speeds; 0 where at some speed any disturbance grows without bound; NaN: none, or no nonlinear lag "
+        "damper law",
     ),
-    "smallest_threshold_speed": ("f8", "rad/s", "rotor speed of the smallest threshold"),
+    "smallest_threshold_speed": (
+        "f8",
+        "rad/s",
+        "rotor speed of the smallest threshold (where it is 0: the first speed at which any disturbance "
+        "grows)",
+    ),
+    "unbounded_speeds": (
+        "f8",
+        "1",
+        "number of limit-cycle speeds at which any disturbance grows without bound (no threshold there); "
+        "NaN: no nonlinear lag damper law",
+    ),
     "largest_stable_cycle": (
         "f8",
         "rad",
@@ -101,10 +113,14 @@ def of_case(case) -> dict:
 def cycle_measures(case) -> dict:
     """The smallest threshold and the largest stable limit cycle of a case with a nonlinear lag damper
     law over ``[limit_cycle]``'s speeds and amplitudes (amplitudes of the blade that moves most, rad);
-    NaN without a law or without such a cycle."""
+    NaN without a law or without such a cycle. Where at some speed any disturbance grows without
+    bound (:meth:`groundres.assess.limit_cycles.LimitCycles.unbounded`) the smallest threshold is
+    0 at the first such speed: a threshold elsewhere would flatter the design. ``unbounded_speeds``
+    counts those speeds."""
     names = (
         "smallest_threshold",
         "smallest_threshold_speed",
+        "unbounded_speeds",
         "largest_stable_cycle",
         "largest_stable_cycle_speed",
     )
@@ -113,9 +129,13 @@ def cycle_measures(case) -> dict:
         return out
     options = case.limit_cycle
     speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
-    cycles = predict(case, speeds, searched=options.searched).cycles
+    found = predict(case, speeds, searched=options.searched)
+    cycles, unbounded = found.cycles, found.unbounded()
     thresholds, stable = [c for c in cycles if not c.stable], [c for c in cycles if c.stable]
-    if thresholds:
+    out["unbounded_speeds"] = float(len(unbounded))
+    if unbounded:
+        out["smallest_threshold"], out["smallest_threshold_speed"] = 0.0, float(speeds[unbounded[0]])
+    elif thresholds:
         worst = min(thresholds, key=lambda c: c.amplitude)
         out["smallest_threshold"], out["smallest_threshold_speed"] = worst.amplitude, worst.speed
     if stable:
