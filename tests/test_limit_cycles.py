@@ -324,3 +324,27 @@ def test_in_air_a_failed_damper_s_equivalent_reassembles_the_small_motion_equati
     assert values[0] == (0.0, 0.0) and min(v[1] for v in values[1:]) > 0
     for got, wanted in zip((m, c, k), want):
         assert np.abs(got - wanted).max() <= 1e-10 * np.abs(wanted).max()
+
+
+def test_a_two_bladed_rotor_s_hub_is_reported_at_both_omega_minus_and_plus_the_lag_frequency():
+    """Two blades on an anisotropic hub: a blade lagging at w in the rotating frame moves the hub
+    at Omega - w and Omega + w alike (the frame change of a two-bladed rotor). The hub's frequency
+    is its largest body component's (it was the root's dominant harmonic over every coordinate,
+    which can be a blade's), and the second is reported beside it."""
+    text, source = case_text("two-bladed")
+    text = text.replace("lag_damping = 300.0            # [N m s/rad]\n", "")
+    assert "lag_damping" not in text
+    text += '\n[rotor.lag_damper]\nlaw = "bilinear"\ndamping = 800.0\nrelief_moment = 100.0\n'
+    text += "damping_after_relief = 100.0\n"
+    case = parse_case(tomllib.loads(text), source, text)
+    found = limit_cycles.predict(case, np.array([300.0, 330.0]) * 2 * math.pi / 60)
+    assert len(found.cycles) == 2
+    for cycle in found.cycles:
+        both = sorted([cycle.nonrotating_frequency, cycle.nonrotating_second])
+        want = sorted([abs(cycle.speed - cycle.frequency), cycle.speed + cycle.frequency])
+        assert both == pytest.approx(want, rel=1e-9)
+    relief = _case(
+        'law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 406.75\n'
+    )
+    (identical,) = limit_cycles.predict(relief, [330 * RPM]).cycles
+    assert identical.nonrotating_second is None

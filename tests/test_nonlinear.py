@@ -197,11 +197,13 @@ def test_with_a_failed_damper_every_blade_settles_on_its_own_predicted_amplitude
         power = np.mean(law.moment(history.lag(k)[late], rate) * rate)  # (over many cycles)
         c_eq, _ = equivalent(law, a, w)
         assert power * 2 * math.pi / w == pytest.approx(math.pi * float(c_eq) * w * a * a, rel=0.01)
-    for dof in ("x", "y"):
-        ((_, hub),) = nonlinear.components(
-            history.time[late], history.displacement[late, names.index(dof)], 1
+    for dof in ("x", "y"):  # (the hub at its largest component's frequency: 25.05 vs 25.07 rad/s)
+        (w, hub), (_, second) = nonlinear.components(
+            history.time[late], history.displacement[late, names.index(dof)], 2
         )
         assert hub == pytest.approx(cycle.hub[dof], rel=0.025)
+        assert w == pytest.approx(cycle.nonrotating_frequency, rel=3e-3)
+        assert cycle.nonrotating_second is None and second < 0.2 * hub
 
 
 def test_with_a_failed_damper_a_threshold_is_bracketed_by_simulation():

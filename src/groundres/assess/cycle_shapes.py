@@ -26,6 +26,8 @@ from ..model import mbc
 POOR = 0.2
 #: Cycles beyond this blade amplitude leave the small-angle structure [rad].
 LARGE = math.radians(10.0)
+#: The hub's second frequency is reported where its component holds this share of the first.
+HUB_SECOND = 0.2
 
 
 @dataclass(frozen=True)
@@ -57,6 +59,8 @@ class Cycle:
     amplitude: float
     stable: bool
     frequency: float
+    #: The frequency of the hub's largest component [rad/s] (the body coordinates': what the
+    #: fuselage feels; :attr:`nonrotating_second` the next).
     nonrotating_frequency: float
     peak: float
     hub: dict
@@ -64,6 +68,10 @@ class Cycle:
     equivalent_damping: float
     equivalent_stiffness: float
     blades: tuple = ()
+    #: The frequency of the hub's second component [rad/s] where it holds :data:`HUB_SECOND` of the
+    #: first (a two-bladed or dissimilar rotor shakes the hub at more than one frequency, such as
+    #: Omega - w and Omega + w), else None.
+    nonrotating_second: float | None = None
     #: The motion at t = 0 (blade 1 at azimuth 0) in blade coordinates, displacements then
     #: rates [m, rad; m/s, rad/s], complex: the cycle is Re(start ...) continued in time.
     start: np.ndarray = field(default=None, repr=False)
@@ -125,19 +133,37 @@ def blade_spectra(system, harmonics, orders, frequency, speeds):
     return amplitude, at, ratio, spectrum.sum(-1)
 
 
+def hub_frequencies(system, harmonics, orders, frequency: float, speed: float) -> tuple:
+    """The frequencies [rad/s, >= 0] of the hub's largest component and of its second (None
+    where that holds less than :data:`HUB_SECOND` of the first): ``harmonics`` (n, H) at
+    ``frequency`` + ``orders`` Omega, each order's size its largest body coordinate's (the root's
+    own frequency where the body does not move)."""
+    body = [i for i, c in enumerate(system.multiblade_coordinates()) if c.kind == "body"]
+    size = np.abs(harmonics[body]).max(axis=0) if body else np.zeros(len(orders))
+    if not size.max() > 0:
+        return abs(frequency), None
+    first, second = np.argsort(size)[::-1][:2] if len(size) > 1 else (int(np.argmax(size)), None)
+    at = np.abs(frequency + np.asarray(orders) * speed)
+    if second is None or size[second] < HUB_SECOND * size[first]:
+        return float(at[first]), None
+    return float(at[first]), float(at[second])
+
+
 def hub_amplitudes(system, harmonics) -> dict:
     """The body coordinates' largest components in ``harmonics`` (n, H): name -> m or rad."""
     coords = system.multiblade_coordinates()
     return {c.name: float(np.abs(harmonics[i]).max()) for i, c in enumerate(coords) if c.kind == "body"}
 
 
-def make_cycle(system, speed, amplitude, stable, root, spectra, harmonics, start, laws, damping, stiffness):
+def make_cycle(
+    system, speed, amplitude, stable, root, spectra, harmonics, start, laws, damping, stiffness, orders=(0,)
+):
     """The cycle of one neutral root scaled to ``amplitude`` of its most-moving blade.
 
     ``spectra``: one point's rows of :func:`blade_spectra` (each (N,)) for the root as found;
-    ``harmonics`` (n, H) and ``start`` (2n, blade coordinates, rates per second) its motion
-    as found; ``laws``: per blade, whether it has a law; ``damping``, ``stiffness``: each
-    blade's equivalent damper (N,).
+    ``harmonics`` (n, H) at the root's frequency + ``orders`` Omega and ``start`` (2n, blade
+    coordinates, rates per second) its motion as found; ``laws``: per blade, whether it has a
+    law; ``damping``, ``stiffness``: each blade's equivalent damper (N,).
     """
     unit, at, second, peak = spectra
     top = int(np.argmax(unit))
@@ -155,12 +181,13 @@ def make_cycle(system, speed, amplitude, stable, root, spectra, harmonics, start
     )
     working = [k for k in range(len(unit)) if laws[k]]
     lead = max(working, key=lambda k: unit[k])
+    hub_first, hub_second = hub_frequencies(system, harmonics, orders, root.imag, speed)
     return Cycle(
         speed=float(speed),
         amplitude=float(amplitude),
         stable=bool(stable),
         frequency=float(at[top]),
-        nonrotating_frequency=float(abs(root.imag)),
+        nonrotating_frequency=hub_first,
         peak=float(peak[top] * scale),
         hub=hub_amplitudes(system, harmonics * scale),
         second_component=float(second[top]),
@@ -168,4 +195,5 @@ def make_cycle(system, speed, amplitude, stable, root, spectra, harmonics, start
         equivalent_stiffness=float(stiffness[lead]),
         blades=blades,
         start=np.asarray(start) * scale,
+        nonrotating_second=hub_second,
     )

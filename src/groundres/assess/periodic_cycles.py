@@ -216,6 +216,7 @@ class PeriodicEquivalent:
         root = fs.exponent[rows, j]
         harmonics = fs.harmonics[rows, :, :, j]  # (m, n, H)
         spectra = blade_spectra(system, harmonics, fs.orders, root.imag, speeds)
+        self.orders = fs.orders  # (the harmonics' orders: the same at every point)
         largest = spectra[0].max(axis=1, keepdims=True)
         n = system.size
         vector = fs.vector[rows, :, j]  # (m, 2n): [q; dq/dpsi] at t = 0
@@ -243,6 +244,7 @@ class PeriodicEquivalent:
             [law is not None for law in self.laws],
             state["damping"][j],
             state["stiffness"][j],
+            self.orders,
         )
 
 

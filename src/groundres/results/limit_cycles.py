@@ -165,6 +165,7 @@ class LimitCycleResult:
                     "peak": math.degrees(c.peak),
                     "frequency_rotating": c.frequency,
                     "frequency_nonrotating": c.nonrotating_frequency,
+                    "second_frequency_nonrotating": c.nonrotating_second,
                     "blade": 1 + max(range(len(c.blades)), key=lambda k: c.blades[k].amplitude),
                     "hub": c.hub,
                     "second_component": c.second_component,
@@ -353,7 +354,16 @@ def cycle_dataset(result) -> tuple:
         "frequency_nonrotating": (
             ("cycle",),
             column(lambda c: c.nonrotating_frequency),
-            {"units": "rad/s", "long_name": "the cycle's frequency in the nonrotating frame"},
+            {"units": "rad/s", "long_name": "frequency of the hub's largest component (nonrotating frame)"},
+        ),
+        "second_frequency_nonrotating": (
+            ("cycle",),
+            column(lambda c: math.nan if c.nonrotating_second is None else c.nonrotating_second),
+            {
+                "units": "rad/s",
+                "long_name": "frequency of the hub's second component where it holds 0.2 of the first "
+                "(NaN: less)",
+            },
         ),
         "second_component": (
             ("cycle",),

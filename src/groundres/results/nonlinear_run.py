@@ -155,6 +155,7 @@ class NonlinearRun:
                     "amplitude": math.degrees(c.amplitude),
                     "frequency_rotating": c.frequency,
                     "frequency_nonrotating": c.nonrotating_frequency,
+                    "second_frequency_nonrotating": c.nonrotating_second,
                     "blades": [math.degrees(b.amplitude) for b in c.blades],
                     "hub": c.hub,
                 }
