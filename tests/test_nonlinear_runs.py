@@ -184,6 +184,12 @@ def test_a_table_law_cannot_be_run_and_says_why(tmp_path):
     path.write_text(text.replace("lag_damping = 4067.5           # [N m s/rad]", "") + law)
     result = _cli("simulate", str(path), "--speed", "260", "--out", str(tmp_path / "out"))
     assert result.exit_code == 2 and "cannot be simulated" in " ".join(result.output.split())
+    # confirming runs asked for in the case file: refused as the case is read, before any work
+    path.write_text(path.read_text() + "\n[limit_cycle]\nconfirm = [260.0]\n")
+    result = _cli("cycles", str(path), "--out", str(tmp_path / "cycles"))
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "[limit_cycle] confirm = [260.0]" in said and 'law = "table"' in said
+    assert "Traceback" not in result.output and not (tmp_path / "cycles").exists()
 
 
 def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):

@@ -379,13 +379,21 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
     rotor = _rotor(data["rotor"])
     if "aero" in data:
         rotor = _aero(data["aero"], rotor)
+    limit_cycle = _limit_cycle(data.get("limit_cycle", {}), data["sweep"])
+    table = next((k for k, e in enumerate(rotor.lag_laws) if e is not None and not e.law.simulable), None)
+    if limit_cycle.confirm and table is not None:  # (known now: refused before any work)
+        raise CaseError(
+            f"[limit_cycle] confirm = {shown(data['limit_cycle']['confirm'])}: confirming runs simulate the "
+            f'laws, and a law = "table" (blade {table + 1}) gives no moment in time; leave confirm out, or fit '
+            "a friction-link law to the table"
+        )
     return _build(
         "[sweep] ",  # the one check of the whole case is the size of the sweep
         Case,
         rotor=rotor,
         body=_body(data["body"]),
         sweep=_sweep(data["sweep"]),
-        limit_cycle=_limit_cycle(data.get("limit_cycle", {}), data["sweep"]),
+        limit_cycle=limit_cycle,
         simulation=_simulation(data.get("simulation", {})),
         title=data.get("title", Path(source).stem if source else "groundres case"),
         description=data.get("description", ""),
