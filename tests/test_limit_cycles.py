@@ -348,3 +348,29 @@ def test_a_two_bladed_rotor_s_hub_is_reported_at_both_omega_minus_and_plus_the_l
     )
     (identical,) = limit_cycles.predict(relief, [330 * RPM]).cycles
     assert identical.nonrotating_second is None
+
+
+def test_the_fixed_point_search_returns_what_it_evaluated_and_keeps_shares_in_0_1():
+    """Anderson acceleration (periodic_cycles._settle) on a map whose fixed point has a share of
+    1.5 (out of range) and that never settles: every point returns the x its last step was
+    evaluated at (the state describes that x; the step limit once left an unevaluated x), and no
+    share leaves [0, 1]."""
+    from groundres.assess import periodic_cycles
+
+    last = {}
+
+    def step(active, x):
+        for p, row in zip(active, x):
+            last[int(p)] = row.copy()
+        assert (x[:, :2] >= 0).all() and (x[:, :2] <= 1).all()
+        target = np.array([1.5, 0.5, 0.3, 0.2])
+        rotate = np.array([[0.0, -0.99], [0.99, 0.0]])  # (a slow spiral in the frequencies)
+        mapped = x + 0.5 * (target - x)
+        mapped[:, 2:] = 0.25 + (x[:, 2:] - 0.25) @ rotate.T
+        return mapped, np.ones(len(x))
+
+    x = np.array([[1.0, 0.2, 0.0, 0.0], [0.5, 0.5, 1.0, 1.0]])
+    out = periodic_cycles._settle(step, x, sign_only=False)
+    for p in range(len(x)):
+        np.testing.assert_array_equal(out[p], last[p])
+    assert (out[:, :2] >= 0).all() and (out[:, :2] <= 1).all()

@@ -262,13 +262,18 @@ def _settle(step, x, sign_only: bool):
     acceleration of depth :data:`DEPTH` (Walker and Ni 2011, "Anderson acceleration for
     fixed-point iterations"): each point until its unknowns move by at most :data:`SHARE_TOL`,
     or (``sign_only``) its g keeps its sign beyond doubt; at most :data:`ITERATIONS` steps
-    (:data:`SCAN_ITERATIONS` with ``sign_only``)."""
+    (:data:`SCAN_ITERATIONS` with ``sign_only``). Returns, at every point, the x its last step
+    was evaluated at (the state ``step`` left describes that x; a point stopped by the step limit
+    is not moved on to an x nobody evaluated). Shares (the first half of x) stay in [0, 1]."""
     x = x.copy()
+    evaluated = x.copy()
+    n = x.shape[1] // 2
     active = np.arange(len(x))
     values, residuals = [], []  # (the last steps' G(x) and G(x) - x at every point)
     g_last = np.full(len(x), np.nan)
     for _ in range(SCAN_ITERATIONS if sign_only else ITERATIONS):
         mapped, g = step(active, x[active])
+        evaluated[active] = x[active]
         full_mapped = np.full(x.shape, np.nan)
         full_mapped[active] = mapped
         residual = full_mapped - x
@@ -287,8 +292,9 @@ def _settle(step, x, sign_only: bool):
             gamma = np.linalg.solve(gram, np.einsum("pdi,pd->pi", d_f, residual[active])[..., None])[..., 0]
             new = mapped - np.einsum("pdi,pi->pd", d_g, gamma)
             new = np.where(np.isfinite(new).all(-1, keepdims=True), new, mapped)
+        new[:, :n] = np.clip(new[:, :n], 0.0, 1.0)  # (an extrapolated share outside [0, 1] means nothing)
         x[active] = np.where(settled[:, None], mapped, new)
         active = active[~settled]
         if not len(active):
             break
-    return x
+    return evaluated
