@@ -85,14 +85,14 @@ def test_the_simulation_table_sets_the_start_the_duration_and_the_window():
 @pytest.mark.parametrize(
     "extra, words",
     [
-        ("\n[simulation]\nduration = -1.0\n", ["[simulation] duration = -1.0", "from 0 to 3600"]),
+        ("\n[simulation]\nduration = -1.0\n", ["[simulation] duration = -1.0", "> 0 and at most 3600"]),
         (
             "\n[simulation]\nduration = 10.0\nwindow = 6.0\n",
             ["[simulation] window = 6.0", "half the duration"],
         ),
         ("\n[simulation]\nalong_cycle = 0.0\n", ["[simulation] along_cycle = 0.0", "> 0"]),
         ("\n[simulation]\nspeed = 3.0\n", ["unknown key 'speed'", "[simulation]"]),
-        ("\n[simulation.initial]\nx = 2.0\n", ["initial.x = 2.0", "small angles"]),
+        ("\n[simulation.initial]\nx = 2.0\n", ["[simulation.initial] x = 2.0", "small angles"]),
         ('\n[simulation.initial]\nx = "far"\n', ["[simulation.initial] x = 'far'", "must be a number"]),
         ("\n[simulation]\nalong_cycle = 1.1\n[simulation.initial]\nx = 0.01\n", ["along_cycle", "either"]),
     ],
@@ -164,9 +164,13 @@ def test_groundres_simulate_brackets_a_threshold(tmp_path):
             ["--window = 6.0", "half"],
         ),
         (["hammond-relief-valve", "--speed", "264.34", "--initial", "x=3"], ["--initial", "+-1"]),
+        (["hammond-relief-valve", "--speed", "264.34", "--steps", "3"], ["--steps 3", "give --threshold"]),
+        (["hammond-1974", "--speed", "30", "--steps", "3"], ["--steps need nonlinear lag dampers"]),
+        (["hammond-relief-valve", "--speed", "264.34", "--time", "0"], ["--time = 0.0", "> 0 and at most"]),
     ],
 )
 def test_groundres_simulate_refuses_what_a_nonlinear_run_cannot_do(tmp_path, args, words):
+    """Each value named where it came from: the command line's option."""
     result = _cli("simulate", *args, "--out", str(tmp_path / "out"))
     assert result.exit_code == 2, result.output
     text = " ".join(result.output.split())
@@ -296,3 +300,13 @@ def test_a_stable_cycle_s_confirming_run_starts_below_a_threshold_over_it():
     assert stable_start(
         cycle, [SimpleNamespace(amplitude=1.05), SimpleNamespace(amplitude=0.9)]
     ) == pytest.approx(math.sqrt(0.9))
+
+
+def test_a_value_from_the_case_file_is_named_as_the_case_file_s_key(tmp_path):
+    """--time 20 with [simulation] window = 30 from the file: the error names the file's key (it
+    said --window, which was never given)."""
+    path = _file(tmp_path, "\n[simulation]\nwindow = 30.0\n")
+    result = _cli("simulate", path, "--speed", "264.34", "--time", "20", "--out", str(tmp_path / "out"))
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "[simulation] window = 30.0" in said and "at most 10" in said
+    assert "--window" not in said and not (tmp_path / "out").exists()

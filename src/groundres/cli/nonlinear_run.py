@@ -28,6 +28,11 @@ def run(console, the_case, w, speed, duration, values, along, window, threshold,
 
     check_out(out_dir, out)
     unit = the_case.sweep.unit
+    if steps is not None and not threshold:
+        fail_user(
+            f"--steps {steps}: counts the bisections of --threshold; give --threshold, or leave --steps out"
+        )
+    steps = 4 if steps is None else steps
     given = {"speed": f"{shown(speed)} {unit}", "duration": repr(duration), "steps": repr(steps)}
     if threshold and (along is not None or values or window is not None):
         fail_user(
@@ -57,9 +62,18 @@ def run(console, the_case, w, speed, duration, values, along, window, threshold,
                     along_cycle=along,
                     progress=report,
                 )
-        except ParameterError as err:  # (named as the command line's options)
-            if err.key.startswith("initial"):  # (as given: --initial x=3)
-                name = err.key.partition(".")[2]
+        except ParameterError as err:  # (named where the value came from: an option, or the case file)
+            on_line = {
+                "duration": duration is not None,
+                "window": window is not None,
+                "along_cycle": along is not None,
+                "initial": bool(values),
+            }
+            key, _, name = err.key.partition(".")
+            if key in on_line and not on_line[key]:
+                table = "[simulation.initial]" if key == "initial" else "[simulation]"
+                fail_user(f"{table} {name or key} = {shown(err.value)}: {err.allowed}")
+            if key == "initial":  # (as given: --initial x=3)
                 fail_user(
                     f"--initial {name}={err.value!r}: {err.allowed}" if name else f"--initial: {err.allowed}"
                 )

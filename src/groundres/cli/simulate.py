@@ -58,9 +58,9 @@ from .common import (
     "--threshold",
     is_flag=True,
     help="Nonlinear lag dampers: bracket the predicted threshold at this speed by runs started along it, "
-    "bisected --steps times between one that decays and one that grows.",
+    "bisected --steps times between one that stays below it and one that heads beyond it.",
 )
-@click.option("--steps", type=int, default=4, show_default=True, help="Bisections of --threshold.")
+@click.option("--steps", type=int, default=None, help="Bisections of --threshold [default: 4].")
 @out_option("groundres-out/<case name>-simulate")
 @FORMAT
 def command(case, speed, duration, initial, along, window, threshold, steps, out, fmt):
@@ -91,8 +91,10 @@ def command(case, speed, duration, initial, along, window, threshold, steps, out
         return run(
             console, the_case, w, speed, duration, values, along, window, threshold, steps, out, out_dir, fmt
         )
-    if along is not None or window is not None or threshold:
-        fail_user("--along, --window and --threshold need nonlinear lag dampers ([rotor.lag_damper])")
+    if along is not None or window is not None or threshold or steps is not None:
+        fail_user(
+            "--along, --window, --threshold and --steps need nonlinear lag dampers ([rotor.lag_damper])"
+        )
     check_out(out_dir, out)
     unit = the_case.sweep.unit
     labels = {"integrate": f"Simulating at {speed:g} {unit} [s simulated]", "write": "Writing results"}

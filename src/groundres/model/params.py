@@ -369,7 +369,7 @@ class SimulationOptions:
     def __post_init__(self):
         if self.duration is not None and not (finite(self.duration) and 0 < self.duration <= MAX_DURATION):
             raise ParameterError(
-                "duration", self.duration, f"must be a finite number from 0 to {MAX_DURATION} [s]"
+                "duration", self.duration, f"must be a finite number > 0 and at most {MAX_DURATION:g} [s]"
             )
         if self.window is not None:
             top = self.duration / 2 if self.duration is not None else MAX_DURATION / 2

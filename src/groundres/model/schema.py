@@ -82,7 +82,11 @@ def _build(prefix: str, factory, **kwargs):
     try:
         return factory(**kwargs)
     except ParameterError as err:
-        raise CaseError(f"{prefix}{err.key} = {shown(err.value)}: {err.allowed}") from None
+        key = err.key
+        if "." in key and prefix.startswith("["):  # ("[simulation] initial.x" is "[simulation.initial] x")
+            inner, _, key = key.partition(".")
+            prefix = f"{prefix.rstrip()[:-1]}.{inner}] "
+        raise CaseError(f"{prefix}{key} = {shown(err.value)}: {err.allowed}") from None
 
 
 def _rotor(data: dict) -> Rotor:
