@@ -310,3 +310,15 @@ def test_a_value_from_the_case_file_is_named_as_the_case_file_s_key(tmp_path):
     said = " ".join(result.output.split())
     assert result.exit_code == 2 and "[simulation] window = 30.0" in said and "at most 10" in said
     assert "--window" not in said and not (tmp_path / "out").exists()
+
+
+def test_a_run_that_passed_90_deg_heads_without_bound_whatever_it_measured():
+    """A run stopped within its first samples measures 0 over its last window: it still heads
+    beyond any threshold (it once counted as settling on a stable cycle below), and a stable
+    cycle's confirmation with it is 'not confirmed', not a crash on log(0)."""
+    from types import SimpleNamespace
+
+    from groundres.assess.confirm import beyond, destination
+
+    stopped = SimpleNamespace(verdict="grows", amplitude=0.0, history=SimpleNamespace(stopped=0.03))
+    assert destination(stopped, [0.02]) == math.inf and beyond(stopped, 0.05, [0.02])

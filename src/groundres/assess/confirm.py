@@ -114,6 +114,9 @@ def destination(measured: Measured, stable=()) -> float:
     the ``stable`` cycles' amplitudes above it, else inf; for one still decaying the nearest
     below it, else 0."""
     now = measured.amplitude
+    history = getattr(measured, "history", None)
+    if history is not None and history.stopped is not None:  # (passed 90 deg: without bound)
+        return math.inf
     if measured.verdict == "settled":
         return now
     if measured.verdict == "grows":
@@ -212,7 +215,8 @@ def confirm(
     if cycle.stable:
         (settled,) = runs.values()
         levels = [c.amplitude for c in others] + [cycle.amplitude]
-        nearest = min(levels, key=lambda a: abs(math.log(settled.amplitude / a)))
+        size = max(settled.amplitude, 1e-300)  # (a run stopped at once measures nothing)
+        nearest = min(levels, key=lambda a: abs(math.log(size / a)))
         out["confirmed"] = settled.verdict == "settled" and nearest == cycle.amplitude
         out["settled"] = math.degrees(settled.amplitude)
         out["error"] = settled.amplitude / cycle.amplitude - 1
