@@ -354,10 +354,8 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         cycles = at_speeds.cycles
         for i, speed in enumerate(at_speeds.speeds):  # (a speed without cycles: said so)
             if not at_speeds.at(float(speed)):
-                confirmations.append(
-                    {"speed": float(speed), "stable": None, "predicted": None, "confirmed": None, "runs": []}
-                    | {"verdict": at_speeds.verdict(i)}
-                )
+                none = {"stable": None, "predicted": None, "confirmed": None, "runs": []}
+                confirmations.append({"speed": float(speed), **none, "verdict": at_speeds.verdict(i)})
         for i, cycle in enumerate(cycles):
             report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
             others = [c for c in cycles if c.speed == cycle.speed and c is not cycle]

@@ -14,7 +14,6 @@ import math
 import numpy as np
 
 from .assess import confirm as confirming
-from .assess.confirm import bracket_threshold
 from .assess.limit_cycles import disturbance, predict
 from .errors import CaseError, ParameterError
 from .model.params import MAX_DURATION, Case, SimulationOptions
@@ -36,12 +35,12 @@ def _checked(case: Case, speed) -> None:
     )
     if bad:
         raise ParameterError("speed", speed, "must be a finite number > 0 [rad/s]")
-    for k, entry in enumerate(case.rotor.lag_laws):
-        if entry is not None and not entry.law.simulable:
-            raise CaseError(
-                f'[rotor.lag_damper] law = "table" (blade {k + 1}): a table of measured properties gives no '
-                "moment in time, so it cannot be simulated (fit a friction-link law to it)"
-            )
+    table = case.rotor.unsimulable_blade
+    if table is not None:
+        raise CaseError(
+            f'[rotor.lag_damper] law = "table" (blade {table + 1}): a table of measured properties gives no '
+            "moment in time, so it cannot be simulated (fit a friction-link law to it)"
+        )
 
 
 def _cycles(case: Case, speed: float) -> list:
@@ -144,5 +143,7 @@ def search_threshold(
     run_for = duration if duration is not None else case.simulation.duration
     run_for = SimulationOptions(duration=run_for).duration  # (checked: finite, 0 to MAX_DURATION)
     others = [c for c in cycles if c is not cycle]
-    bracket = bracket_threshold(case, cycle, steps=steps, duration=run_for, progress=progress, others=others)
+    bracket = confirming.bracket_threshold(
+        case, cycle, steps=steps, duration=run_for, progress=progress, others=others
+    )
     return cycle, bracket

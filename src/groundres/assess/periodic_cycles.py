@@ -283,7 +283,7 @@ def _settle(step, x, sign_only: bool):
         if sign_only:
             settled |= (moved <= LOOSE) & (np.abs(g) > 10 * np.abs(g - g_last[active]))
         g_last[active] = g
-        new = mapped
+        new = mapped.copy()  # (the shares are clipped below: not the step's own array)
         if len(residuals) > 1:  # (the combination of the last steps whose residual is least)
             d_f = np.stack([residuals[i + 1] - residuals[i] for i in range(len(residuals) - 1)], -1)[active]
             d_g = np.stack([values[i + 1] - values[i] for i in range(len(values) - 1)], -1)[active]

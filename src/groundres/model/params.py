@@ -201,6 +201,12 @@ class Rotor:
         """Whether any blade's lag damper follows a law other than a linear one."""
         return any(d is not None and d.law.law != "linear" for d in self.lag_laws)
 
+    @property
+    def unsimulable_blade(self) -> int | None:
+        """The first blade (0-based) whose law cannot be simulated (a table of measured properties
+        gives no moment in time), None where every law can."""
+        return next((k for k, d in enumerate(self.lag_laws) if d is not None and not d.law.simulable), None)
+
     def with_lag_laws(self, laws: tuple) -> Rotor:
         """A copy whose blades carry ``laws`` (per blade a BladeDamper or None), each such blade at
         its law's small-motion damping and stiffness."""

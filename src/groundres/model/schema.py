@@ -384,7 +384,7 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
     if "aero" in data:
         rotor = _aero(data["aero"], rotor)
     limit_cycle = _limit_cycle(data.get("limit_cycle", {}), data["sweep"])
-    table = next((k for k, e in enumerate(rotor.lag_laws) if e is not None and not e.law.simulable), None)
+    table = rotor.unsimulable_blade
     if limit_cycle.confirm and table is not None:  # (known now: refused before any work)
         raise CaseError(
             f"[limit_cycle] confirm = {shown(data['limit_cycle']['confirm'])}: confirming runs simulate the "
