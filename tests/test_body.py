@@ -142,3 +142,29 @@ def test_full_body_unstable_range_matches_between_methods():
     b = analyze(case, method="floquet")
     assert a.method == "multiblade-eigen"
     np.testing.assert_allclose(b.stability.unstable_ranges, a.stability.unstable_ranges, rtol=1e-7)
+
+
+def test_the_hub_s_in_plane_motion_per_body_coordinate_is_the_derived_geometry_s():
+    """The hub centre's in-plane displacement per unit body coordinate (what a cycle's hub
+    frequency is read from) against a second route: the symbolic geometry the equations are derived
+    from (:func:`groundres.symbolic.derive.blade_geometry`, hinge at the hub centre), differentiated
+    at rest. Exact: both are the same linear map, up to round-off."""
+    import sympy as sp
+
+    from groundres.model.body import BODY_DOFS, Body
+    from groundres.symbolic.derive import BLADE_SYMBOLS, COORDS, blade_geometry
+
+    hinge, _, _ = blade_geometry()
+    values = {"hub_height": 1.7, "hub_x": 0.3, "hub_y": -0.2, "hinge_offset": 0.0}
+    subs = {BLADE_SYMBOLS[k]: v for k, v in values.items()}
+    rest = dict.fromkeys(COORDS, 0)
+    by_name = dict(zip(("x", "y", "z", "pitch", "roll", "yaw"), COORDS[:6]))
+    unit = {f"mass_{d}": 1.0 for d in "xyz"} | {f"inertia_{d}": 1.0 for d in ("pitch", "roll", "yaw")}
+    unit |= {f"stiffness_{d}": 1.0 for d in BODY_DOFS}
+    body = Body(dofs=BODY_DOFS, **{k: values[k] for k in ("hub_height", "hub_x", "hub_y")}, **unit)
+    got = body.hub_in_plane()
+    for j, name in enumerate(body.dofs):
+        for i in range(2):
+            derived = sp.diff(hinge[i], by_name[name]).subs(rest).subs(subs)
+            derived = float(sp.simplify(derived.subs(sp.Symbol("psi", real=True), 0)))
+            assert got[i, j] == pytest.approx(derived, abs=1e-14), (name, i)

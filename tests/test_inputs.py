@@ -302,7 +302,7 @@ SIMULATE = {
     "initial inf": (["--speed", "255", "--initial", "lag1=-inf"], ["--initial 'lag1=-inf'", "finite"]),
     "initial unknown": (
         ["--speed", "255", "--initial", "flap1=0.1"],
-        ["'flap1'", "x, y, lag1, lag2, lag3, lag4", "NAME_rate"],
+        ["--initial flap1=0.1", "x, y, lag1, lag2, lag3, lag4", "NAME_rate"],
     ),
     "initial not a number": (["--speed", "255", "--initial", "x=big"], ["--initial 'x=big'", "NAME=NUMBER"]),
     "initial no name": (["--speed", "255", "--initial", "=1"], ["--initial '=1'", "NAME=NUMBER"]),

@@ -374,3 +374,71 @@ def test_the_fixed_point_search_returns_what_it_evaluated_and_keeps_shares_in_0_
     for p in range(len(x)):
         np.testing.assert_array_equal(out[p], last[p])
     assert (out[:, :2] >= 0).all() and (out[:, :2] <= 1).all()
+
+
+@pytest.mark.parametrize("name, failed", [("hammond-friction-link", False), ("hammond-relief-valve", True)])
+def test_small_motion_growth_is_the_linear_analysis_s_least_stable_root(name, failed):
+    """Whether small motion grows is the linear analysis's answer (each law at its slope at rest):
+    the growth each route of the prediction computes for it equals the largest real part of the
+    linear solver's roots on the same case (multiblade on identical blades, Floquet with blade 1's
+    damper failed), and the Floquet route agrees with the multiblade one on identical blades.
+    Tolerance: the Floquet exponents' accuracy, 1e-8 of the speed."""
+    text, source = case_text(name)
+    if failed:
+        text += '\n[[rotor.blade]]\nindex = 1\nlag_damper = "failed"\n'
+    case = parse_case(tomllib.loads(text), source, text)
+    speeds = np.array([150.0, 230.0, 300.0, 380.0]) * RPM
+    method = Method.FLOQUET if failed else Method.MULTIBLADE
+    linear = solver_for(case, method).real_parts(speeds).max(axis=1)
+    found = limit_cycles.predict(case, speeds, per_decade=2)
+    assert np.abs(found.small_growth - linear).max() <= 1e-8 * speeds.max()
+    if not failed:
+        floquet = limit_cycles.predict(case, speeds, per_decade=2, periodic=True)
+        assert np.abs(floquet.small_growth - linear).max() <= 1e-8 * speeds.max()
+    assert (linear > 0).any() and (linear < 0).any()  # (both verdicts are tried)
+
+
+def test_a_threshold_below_the_amplitudes_searched_is_said_and_bounds_a_study_s_threshold():
+    """hammond-relief-valve's thresholds are near 2.4 deg. Searched from 5 deg, a disturbance of 5
+    deg grows at those speeds while small motion decays: the threshold lies below the amplitudes
+    searched. It used to be read from the growth at 5 deg alone as 'grows from any disturbance',
+    and a study recorded a threshold of 0. Now those speeds are named, no speed is unbounded, and
+    a study records 5 deg, the bound the search supports, with the count of such speeds."""
+    from groundres.results.limit_cycles import LimitCycleResult
+    from groundres.studies.measures import cycle_measures
+
+    text, source = case_text("hammond-relief-valve")
+    text = text.replace("amplitude_min = 0.01 ", "amplitude_min = 5.0 ").replace(
+        "points = 100", "points = 12"
+    )
+    case = parse_case(tomllib.loads(text), source, text)
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, 12)
+    full = limit_cycles.predict(case, speeds, searched=(math.radians(0.01), math.radians(30.0)))
+    found = limit_cycles.predict(case, speeds, searched=case.limit_cycle.searched)
+    small = [
+        i
+        for i in range(12)
+        if any(not c.stable and c.amplitude < math.radians(5) for c in full.at(speeds[i]))
+    ]
+    assert small and found.below_searched() == small and not found.unbounded()
+    assert all(found.verdict(i).startswith("small motion decays, but the smallest") for i in small)
+    words = LimitCycleResult(case, found).below_words()
+    assert f"at {len(small)} of the 12 speeds" in words and "5 deg" in words
+    measures = cycle_measures(case)
+    assert measures["smallest_threshold"] == pytest.approx(math.radians(5.0), rel=1e-12)
+    assert measures["smallest_threshold_speed"] == speeds[small[0]]
+    assert measures["below_searched_speed_count"] == len(small) and measures["unbounded_speed_count"] == 0
+
+
+def test_speeds_that_grow_from_any_disturbance_are_named_range_by_range():
+    """Speeds that are not neighbours are not joined into one range ('from the first to the
+    last'): each run of neighbouring speeds is its own range."""
+    from groundres.results.limit_cycles import LimitCycleResult
+
+    case = _case('law = "bilinear"\ndamping = 4067.5\nrelief_moment = 813.5\ndamping_after_relief = 406.75\n')
+    speeds = np.array([100.0, 150.0, 200.0, 250.0, 300.0, 350.0]) * RPM
+    grows = np.array([1.0, 1.0, -1.0, 1.0, -1.0, 1.0])
+    found = limit_cycles.LimitCycles(speeds, np.array([1e-4, 0.5]), np.stack([grows, grows], 1), grows)
+    words = LimitCycleResult(case, found).unbounded_words()
+    assert words.startswith("at 4 of the 6 speeds, from 100 rpm") and " to 150 rpm" in words
+    assert ", at 250 rpm (" in words and " and at 350 rpm (" in words

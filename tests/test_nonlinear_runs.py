@@ -16,6 +16,7 @@ from click.testing import CliRunner
 
 from groundres import run_nonlinear, search_threshold
 from groundres.cli import main
+from groundres.errors import CaseError
 from groundres.model.casefile import case_text
 from groundres.model.schema import load_case, parse_case
 
@@ -209,7 +210,10 @@ def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):
     assert [r["verdict"] for r in entry["runs"]] == ["decays", "grows"]
     assert [r["beyond"] for r in entry["runs"]] == [False, True]
     said = " ".join(result.output.split())
-    assert "the threshold of 2.38 deg is confirmed: 0.8 times it decays, 1.25 times it grows" in said
+    assert (
+        "the threshold of 2.38 deg is confirmed: 0.8 times it decays (stays below it), 1.25 times it" in said
+    )
+    assert "grows past 90 deg (stopped at" in said and "s) (heads beyond it)" in said
     assert none["speed"] == pytest.approx(100 * RPM) and none["runs"] == [] and none["confirmed"] is None
     assert "at 100 rpm" in said and "no cycle is predicted (decays from any disturbance searched)" in said
 
@@ -322,3 +326,73 @@ def test_a_run_that_passed_90_deg_heads_without_bound_whatever_it_measured():
 
     stopped = SimpleNamespace(verdict="grows", amplitude=0.0, history=SimpleNamespace(stopped=0.03))
     assert destination(stopped, [0.02]) == math.inf and beyond(stopped, 0.05, [0.02])
+
+
+def test_a_confirmation_says_where_every_run_heads_and_that_a_stopped_run_passed_90_deg():
+    """Each run of a threshold's confirmation says its side, whatever its verdict; a stable
+    cycle's run that stopped past 90 deg says so (it said 'grows, 0 deg at its end (-1e+02 %)')."""
+    from groundres.model.schema import load_case
+    from groundres.results.limit_cycles import LimitCycleResult
+
+    found = LimitCycleResult(load_case("hammond-relief-valve"), None)
+    run = {"verdict": "grows", "amplitude": 0.0, "stopped": 2.5, "factor": 1.25}
+    stable = {
+        "speed": 27.7,
+        "stable": True,
+        "predicted": 3.0,
+        "confirmed": False,
+        "error": -1.0,
+        "runs": [run],
+    }
+    said = found.confirmation_words(stable)
+    assert "the run grows past 90 deg (stopped at 2.5 s)" in said and "%" not in said
+    below = {"verdict": "settled", "amplitude": 1.0, "stopped": None, "factor": 0.8, "beyond": False}
+    threshold = {**stable, "stable": False, "confirmed": True, "runs": [below, {**run, "beyond": True}]}
+    said = found.confirmation_words(threshold)
+    assert "0.8 times it settles at 1 deg (stays below it)" in said
+    assert "1.25 times it grows past 90 deg (stopped at 2.5 s) (heads beyond it)" in said
+
+
+def test_a_run_too_short_for_its_motion_is_refused_naming_the_key(tmp_path):
+    """--time 0.01 gave a verdict from windows holding no period of the motion: a run lasts at
+    least ten periods, each window at least two, and a confirmation's [simulation] duration is
+    held to the same."""
+    result = _cli(
+        "simulate",
+        "hammond-relief-valve",
+        "--speed",
+        "264.34",
+        "--time",
+        "0.01",
+        "--out",
+        str(tmp_path / "o"),
+    )
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "--time = 0.01" in said and "10 periods of the motion" in said
+    result = _cli(
+        "simulate",
+        "hammond-relief-valve",
+        "--speed",
+        "264.34",
+        "--time",
+        "30",
+        "--window",
+        "0.2",
+        "--out",
+        str(tmp_path / "o"),
+    )
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "--window = 0.2" in said and "2 periods" in said and "--time" not in said
+    path = _file(tmp_path, "confirm = [264.34]\n\n[simulation]\nduration = 1.0\n")
+    result = _cli("cycles", path, "--out", str(tmp_path / "out"))
+    said = " ".join(result.output.split())
+    assert result.exit_code == 2 and "[simulation] duration = 1.0" in said and "Traceback" not in said
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_confirm_speed_is_listed_once():
+    text = _text("confirm = [264.34, 264.34]\n")
+    with pytest.raises(
+        CaseError, match=r"\[limit_cycle\] confirm = \[264.34, 264.34\]: must list each speed once"
+    ):
+        parse_case(tomllib.loads(text), "relief", text)

@@ -614,7 +614,7 @@ def test_a_law_s_keys_vary_its_limit_cycles_each_as_the_prediction_on_that_case(
             found = predict(case, speeds, searched=case.limit_cycle.searched)
             thresholds = [c for c in found.cycles if not c.stable]
             point = ds.sel({"rotor.lag_damper.relief_moment": moment, "failure": failure})
-            assert float(point.unbounded_speeds) == len(found.unbounded())
+            assert float(point.unbounded_speed_count) == len(found.unbounded())
             if found.unbounded():  # (blade 1 failed: at 242 rpm the linear rotor is unstable)
                 assert failure != "none" and found.unbounded() == [3]
                 assert float(point.smallest_threshold) == 0.0
@@ -648,7 +648,7 @@ def test_where_any_disturbance_grows_at_some_speed_the_smallest_threshold_is_zer
     assert unbounded and all(found.verdict(i) == "grows from any disturbance" for i in unbounded)
     assert any(not c.stable for c in found.cycles)  # (thresholds at lower speeds)
     measures = cycle_measures(case)
-    assert measures["smallest_threshold"] == 0.0 and measures["unbounded_speeds"] == len(unbounded)
+    assert measures["smallest_threshold"] == 0.0 and measures["unbounded_speed_count"] == len(unbounded)
     assert measures["smallest_threshold_speed"] == speeds[unbounded[0]]
     assert "0 where" in MEASURES["smallest_threshold"][2]
     from matplotlib.figure import Figure

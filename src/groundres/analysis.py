@@ -359,9 +359,11 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         for i, cycle in enumerate(cycles):
             report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
             others = [c for c in cycles if c.speed == cycle.speed and c is not cycle]
-            confirmations.append(
-                confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
-            )
+            try:
+                entry = confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
+            except ParameterError as err:  # (the run's length or window, from the case file)
+                raise CaseError(f"[simulation] {err}") from None
+            confirmations.append(entry)
         confirmations.sort(key=lambda e: e["speed"])
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
     return LimitCycleResult(case, prediction, sweep, confirmations)

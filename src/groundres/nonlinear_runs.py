@@ -38,8 +38,8 @@ def _checked(case: Case, speed) -> None:
     table = case.rotor.unsimulable_blade
     if table is not None:
         raise CaseError(
-            f'[rotor.lag_damper] law = "table" (blade {table + 1}): a table of measured properties gives no '
-            "moment in time, so it cannot be simulated (fit a friction-link law to it)"
+            f'blade {table + 1}\'s lag damper, law = "table": a table of measured properties gives no moment '
+            "in time, so it cannot be simulated (fit a friction-link law to it)"
         )
 
 
@@ -109,8 +109,14 @@ def run_nonlinear(
     run_for = confirming.default_duration(frequency) if given.duration is None else given.duration
     run_for = min(run_for, MAX_DURATION)
     measured_over = confirming.WINDOW_SHARE * run_for if given.window is None else given.window
+    confirming.check_length(run_for, min(measured_over, run_for / 2), frequency)
     if not measured_over <= run_for / 2:
-        raise ParameterError("window", measured_over, f"must be at most half the run ({run_for / 2:g} s)")
+        length = "the default at this speed" if given.duration is None else "the duration given"
+        raise ParameterError(
+            "window",
+            measured_over,
+            f"must be at most half the run ({run_for / 2:g} s; the run lasts {run_for:g} s, {length})",
+        )
     history = nonlinear.integrate(case, speed, run_for, start, progress=progress)
     return NonlinearRun(case, speed, words, confirming.measure(history, measured_over), predicted)
 

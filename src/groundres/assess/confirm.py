@@ -43,6 +43,9 @@ BELOW, ABOVE = 0.8, 1.25
 #: Default run: periods of the cycle's (or the blade's) rotating-frame frequency, and the part of
 #: the run each of the two measuring windows takes.
 PERIODS, WINDOW_SHARE = 120, 0.2
+#: Shortest run, in periods of its motion, and shortest measuring window (two fifths of a run of
+#: ten periods): fewer and a window holds too little of the motion for its amplitude.
+MIN_PERIODS, WINDOW_PERIODS = 10, 2
 
 
 @dataclass
@@ -131,7 +134,9 @@ def beyond(measured: Measured, threshold: float, stable=()) -> bool:
 
 def run_words(run: dict) -> str:
     """What a run did, from its entry in limit_cycles.json: 'decays', 'grows', 'settles at
-    1.21 deg'."""
+    1.21 deg', 'grows past 90 deg (stopped at 3.2 s)'."""
+    if run.get("stopped") is not None:
+        return f"grows past 90 deg (stopped at {run['stopped']:.3g} s)"
     if run["verdict"] == "settled":
         return f"settles at {run['amplitude']:.3g} deg"
     return run["verdict"]
@@ -150,6 +155,30 @@ def _two(parts):
     """Two (frequency, amplitude) pairs, zeros where a signal holds fewer."""
     parts = list(parts) + [(0.0, 0.0)] * 2
     return parts[:2]
+
+
+def check_length(duration: float, window: float, frequency: float) -> None:
+    """Refuse a run of ``duration`` [s] measured over windows of ``window`` [s] too short for its
+    motion at ``frequency`` [rad/s, rotating frame]: a ParameterError naming duration or window."""
+    from ..errors import ParameterError
+    from ..model.params import MAX_DURATION
+
+    period = 2 * math.pi / max(frequency, 1e-3)
+    shortest = min(MIN_PERIODS * period, MAX_DURATION)
+    if duration < shortest:
+        raise ParameterError(
+            "duration",
+            duration,
+            f"must be at least {shortest:.3g} [s] here: {MIN_PERIODS} periods of the motion ({period:.3g} s "
+            "each), for two measuring windows that each hold a few of them",
+        )
+    if window < min(WINDOW_PERIODS * period, shortest / 5):
+        raise ParameterError(
+            "window",
+            window,
+            f"must be at least {WINDOW_PERIODS * period:.3g} [s] here: {WINDOW_PERIODS} periods of the "
+            f"motion ({period:.3g} s each), for its amplitude to be measured",
+        )
 
 
 def default_duration(frequency: float) -> float:
@@ -189,6 +218,7 @@ def confirm(
 
     duration = default_duration(cycle.frequency) if duration is None else duration
     window = WINDOW_SHARE * duration if window is None else window
+    check_length(duration, min(window, duration / 2), cycle.frequency)
     stable = [c.amplitude for c in others if c.stable]
     system = nonlinear.structure(case)
     factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
@@ -208,6 +238,7 @@ def confirm(
             "blade": m.lead,
             "evaluations": m.history.evaluations,
             "method": m.history.method,
+            "stopped": m.history.stopped,
             **({} if cycle.stable else {"beyond": beyond(m, cycle.amplitude, stable)}),
         }
         for f, m in runs.items()
@@ -255,6 +286,7 @@ def bracket_threshold(
 
     system = nonlinear.structure(case)
     duration = 120 * math.pi / cycle.frequency if duration is None else duration
+    check_length(duration, duration / 5, cycle.frequency)
     stable = [c.amplitude for c in others if c.stable]
 
     runs = [0]

@@ -136,10 +136,16 @@ def blade_spectra(system, harmonics, orders, frequency, speeds):
 def hub_frequencies(system, harmonics, orders, frequency: float, speed: float) -> tuple:
     """The frequencies [rad/s, >= 0] of the hub's largest component and of its second (None
     where that holds less than :data:`HUB_SECOND` of the first): ``harmonics`` (n, H) at
-    ``frequency`` + ``orders`` Omega, each order's size its largest body coordinate's (the root's
-    own frequency where the body does not move)."""
+    ``frequency`` + ``orders`` Omega, each order's size the hub centre's largest in-plane
+    displacement [m] (:meth:`groundres.model.body.Body.hub_in_plane`; where the hub does not move
+    in its plane, the largest body coordinate's; the root's own frequency where the body does not
+    move)."""
     body = [i for i, c in enumerate(system.multiblade_coordinates()) if c.kind == "body"]
-    size = np.abs(harmonics[body]).max(axis=0) if body else np.zeros(len(orders))
+    size = np.zeros(len(orders))
+    if body:
+        size = np.abs(system.body.hub_in_plane() @ harmonics[body]).max(axis=0)
+        if not size.max() > 0:  # (a body that only heaves, or turns about the hub)
+            size = np.abs(harmonics[body]).max(axis=0)
     if not size.max() > 0:
         return abs(frequency), None
     first, second = np.argsort(size)[::-1][:2] if len(size) > 1 else (int(np.argmax(size)), None)

@@ -46,6 +46,7 @@ from ..model import describing, mbc
 from ..solve import modal
 from ..solve.solvers import solver_for
 from .cycle_shapes import Cycle, blade_spectra, make_cycle
+from .stability import growth_threshold
 
 #: Blade lag amplitudes searched by default [rad]: 0.001 to 30 deg.
 SEARCHED = (math.radians(0.001), math.radians(30.0))
@@ -73,6 +74,8 @@ class LimitCycles:
         The blade lag amplitudes scanned [rad].
     growth : ndarray (n_s, n_a)
         g(A): the largest real part of a root with lag motion [1/s], the laws at each amplitude.
+    small_growth : ndarray (n_s,)
+        g of small motion: each law at its slope at rest, as the linear analysis takes it [1/s].
     cycles : list of Cycle
         Every neutral amplitude found, by speed then amplitude.
     """
@@ -80,30 +83,65 @@ class LimitCycles:
     speeds: np.ndarray
     amplitudes: np.ndarray
     growth: np.ndarray
+    small_growth: np.ndarray
     cycles: list = field(default_factory=list)
 
     def at(self, speed: float) -> list:
         """The cycles at ``speed`` [rad/s] (one of :attr:`speeds`)."""
         return [c for c in self.cycles if c.speed == speed]
 
+    def _sign(self, g, i) -> int:
+        """+1 where ``g`` grows at speed ``i``, -1 where it decays, 0 within the linear analysis's
+        neutral band (:func:`groundres.assess.stability.growth_threshold`)."""
+        band = float(growth_threshold(self.speeds[i]))
+        return 1 if g > band else -1 if g < -band else 0
+
+    def small_sign(self, i: int) -> int:
+        """Whether small motion grows (+1), decays (-1) or is neutral (0) at speed ``i``: the
+        linear analysis's verdict on the least stable root with lag motion."""
+        return self._sign(self.small_growth[i], i)
+
+    def first_sign(self, i: int) -> int:
+        """The same at the smallest amplitude searched."""
+        return self._sign(self.growth[i, 0], i)
+
     def unbounded(self) -> list:
-        """Indices of the speeds at which any disturbance grows without bound: the smallest
-        amplitude searched grows and no stable cycle holds it (no threshold there: the least
-        disturbance that diverges is none)."""
+        """Indices of the speeds at which any disturbance grows without bound: small motion grows,
+        so does the smallest amplitude searched, and no stable cycle holds it (no threshold there:
+        the least disturbance that diverges is none)."""
         return [
             i
             for i, speed in enumerate(self.speeds)
-            if self.growth[i, 0] > 0 and not any(c.stable for c in self.at(float(speed)))
+            if self.small_sign(i) > 0
+            and self.first_sign(i) > 0
+            and not any(c.stable for c in self.at(float(speed)))
         ]
 
+    def below_searched(self) -> list:
+        """Indices of the speeds at which small motion does not grow but the smallest amplitude
+        searched does: a threshold lies between rest and the amplitudes searched."""
+        return [i for i in range(len(self.speeds)) if self.small_sign(i) <= 0 and self.first_sign(i) > 0]
+
     def verdict(self, i: int) -> str:
-        """What happens at speed ``i`` in words (without numbers), from the smallest amplitude
-        searched up: the cycles in order, stable ones attracting, unstable ones thresholds."""
+        """What happens at speed ``i`` in words (without numbers), from small motion (the linear
+        analysis) up through the amplitudes searched: the cycles in order, stable ones attracting,
+        unstable ones thresholds."""
         cycles = sorted(self.at(float(self.speeds[i])), key=lambda c: c.amplitude)
-        grows = self.growth[i, 0] > 0
-        if not cycles:
-            return "grows from any disturbance" if grows else "decays from any disturbance searched"
-        words = "grows from any small disturbance" if grows else "small disturbances decay"
+        small, first = self.small_sign(i), self.first_sign(i)
+        if first > 0 and small <= 0:
+            state = "decays" if small < 0 else "is neutral"
+            words = f"small motion {state}, but the smallest disturbance searched grows"
+            words += " (a threshold lies below it)"
+            if not cycles:
+                return words + " without bound"
+        elif first <= 0 and small > 0:
+            words = "small motion grows to a stable cycle below the amplitudes searched"
+            if not cycles:
+                return words + " (larger ones decay)"
+        elif not cycles:
+            return "grows from any disturbance" if first > 0 else "decays from any disturbance searched"
+        else:
+            words = "grows from any small disturbance" if first > 0 else "small disturbances decay"
         for k, cycle in enumerate(cycles):
             last = k == len(cycles) - 1
             if cycle.stable:  # (reached from below, where the motion grows)
@@ -158,6 +196,13 @@ class EquivalentSystem:
     def prepare(self, speeds):
         """Hold the forms at ``speeds`` [rad/s] for :meth:`neutrality`."""
         self.speeds, self.forms = speeds, self.directions(speeds)
+
+    def small_motion(self):
+        """g of small motion at every speed held: the law at its slope at rest (the linear
+        analysis's damper), (n_s,)."""
+        c0, k0 = self.law.small_motion()
+        f0, d_c, d_k = self.forms
+        return self._least_stable(f0 + c0 * d_c + k0 * d_k, self.speeds)["root"].real
 
     def scan(self, amplitudes):
         """g at every speed held (:meth:`prepare`) and every amplitude, (n_s, n_a), all at once."""
@@ -286,7 +331,7 @@ def predict(
     speeds = case.sweep.speeds if speeds is None else np.asarray(speeds, dtype=float)
     speeds = speeds[speeds > 0]  # (at rest nothing turns: no cycle)
     if not len(speeds):
-        return LimitCycles(speeds, np.array(searched, float), np.zeros((0, 2)))
+        return LimitCycles(speeds, np.array(searched, float), np.zeros((0, 2)), np.zeros(0))
     decades = math.log10(searched[1] / searched[0])
     amplitudes = np.geomspace(searched[0], searched[1], max(2, int(math.ceil(decades * per_decade)) + 1))
     equivalent.prepare(speeds)
@@ -315,7 +360,7 @@ def predict(
         low, g_low = np.where(same, mid, low), np.where(same, g, np.where(side == -1, 0.5 * g_low, g_low))
         high, g_high = np.where(same, high, mid), np.where(same, np.where(side == 1, 0.5 * g_high, g_high), g)
         side = np.where(same, 1, -1)
-    result = LimitCycles(speeds, amplitudes, growth)
+    result = LimitCycles(speeds, amplitudes, growth, equivalent.small_motion())
     if len(s_i):
         found = np.exp(0.5 * (low + high))
         _, state = equivalent.neutrality(s_i, found)

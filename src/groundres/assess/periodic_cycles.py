@@ -181,7 +181,8 @@ class PeriodicEquivalent:
 
         def step(active, x):
             share, frequency = _split(x, self.n)
-            found = self._least_stable(amplitudes[active], share, frequency, speeds[active], sign_only)
+            values = self._values(amplitudes[active], share, frequency, speeds[active])
+            found = self._least_stable(*values, speeds[active], sign_only)
             for key, value in found.items():
                 state.setdefault(key, np.zeros((len(at),) + value.shape[1:], value.dtype))[active] = value
             return _joined(found["shares"], found["frequencies"]), found["root"].real
@@ -192,11 +193,19 @@ class PeriodicEquivalent:
         self._remember(at, amplitudes, shares, freq)
         return state["root"].real, state
 
-    def _least_stable(self, amplitudes, shares, frequencies, speeds, rough: bool = False) -> dict:
-        """The Floquet root with lag motion of largest real part at every point, the blades at
-        ``amplitudes`` times ``shares`` and ``frequencies``, with its blades' spectra."""
+    def small_motion(self):
+        """g of small motion at every speed held: each law at its slope at rest (the linear
+        analysis's damper), (n_s,)."""
+        damping = np.full((len(self.speeds), self.n), np.nan)
+        stiffness = damping.copy()
+        for k in self.working:
+            damping[:, k], stiffness[:, k] = self.laws[k].small_motion()
+        return self._least_stable(damping, stiffness, self.speeds)["root"].real
+
+    def _least_stable(self, damping, stiffness, speeds, rough: bool = False) -> dict:
+        """The Floquet root with lag motion of largest real part at every point, each blade's law
+        replaced by its ``damping`` and ``stiffness`` (m, N) [SI], with its blades' spectra."""
         system = self.system
-        damping, stiffness = self._values(amplitudes, shares, frequencies, speeds)
         values = np.concatenate([damping[:, self.working], stiffness[:, self.sprung]], axis=1)
         # (without the lifted problem: the least stable roots, the only ones the search reads, are
         # resolved whatever the most damped do; a slow rotor's lifted problem costs twenty times more)

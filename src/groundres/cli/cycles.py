@@ -71,16 +71,24 @@ def _print(console, found) -> None:
     shown = np.unique(np.linspace(0, len(p.speeds) - 1, min(ROWS, len(p.speeds))).round().astype(int))
     for i in shown:
         console.print(f"  {plain(fmt_speed(p.speeds[i], sweep))}: {p.verdict(int(i))}")
+    if len(shown) < len(p.speeds):
+        console.print(
+            f"  ({len(shown)} of the {len(p.speeds)} speeds; limit_cycles.json gives every one's verdict)"
+        )
     worst, largest = found.smallest_threshold(), found.largest_stable()
     unbounded = found.unbounded_words()
     if unbounded is not None:
         console.print(plain(f"Grows from any disturbance: {unbounded}."))
+    below = found.below_words()
+    if below is not None:
+        console.print(plain(f"Threshold below the amplitudes searched: {below}."))
     if worst is not None:
         elsewhere = " (where there is one)" if unbounded is not None else ""
+        elsewhere = " (of those found)" if below is not None else elsewhere
         console.print(plain(f"Smallest threshold{elsewhere}: {found.threshold_words(worst)}."))
     if largest is not None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))
-    if worst is None and largest is None and unbounded is None:
+    if worst is None and largest is None and unbounded is None and below is None:
         console.print("No limit cycle within the amplitudes searched.")
     for entry in found.confirmations:
         console.print(plain(f"Simulation: {found.confirmation_words(entry)}."))

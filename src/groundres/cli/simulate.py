@@ -107,8 +107,10 @@ def command(case, speed, duration, initial, along, window, threshold, steps, out
         try:
             sim = simulate(the_case, w, duration=duration, initial=values or None, progress=report)
         except ParameterError as err:  # (named as the command line's options)
-            if err.key == "initial":  # (as given: --initial x=1e+308)
-                fail_user(f"--initial {_initial_text(err.value, initial)}: {err.allowed}")
+            key, _, name = err.key.partition(".")
+            if key == "initial":  # (as given: --initial x=1e+308)
+                given_as = f"{name}={err.value!r}" if name else _initial_text(err.value)
+                fail_user(f"--initial {given_as}{'' if initial else ' (the default)'}: {err.allowed}")
             option = OPTIONS.get(err.key, err.key)
             fail_user(f"{option} = {given.get(err.key) or shown(err.value)}: {err.allowed}")
         steps("integrate", sim.time[-1], sim.time[-1])
@@ -154,12 +156,9 @@ def command(case, speed, duration, initial, along, window, threshold, steps, out
 OPTIONS = {"speed": "--speed", "duration": "--time", "initial": "--initial"}
 
 
-def _initial_text(value, items) -> str:
-    """The --initial values an error names, NAME=VALUE as given (the default: so said)."""
-    if not isinstance(value, dict):  # (a name that is no coordinate)
-        return shown(value)
-    text = " ".join(f"{shown(k)[1:-1] if isinstance(k, str) else shown(k)}={v!r}" for k, v in value.items())
-    return text if items else f"{text} (the default)"
+def _initial_text(value) -> str:
+    """The --initial values an error names, NAME=VALUE as given."""
+    return " ".join(f"{shown(k)[1:-1] if isinstance(k, str) else shown(k)}={v!r}" for k, v in value.items())
 
 
 def _initial_values(items) -> dict:

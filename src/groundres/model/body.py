@@ -384,6 +384,14 @@ class Body:
         body's rotations move it differently in different directions."""
         return bool(self.hub_x or self.hub_y) and bool({"pitch", "roll", "yaw"} & set(self.dofs))
 
+    def hub_in_plane(self) -> np.ndarray:
+        """The hub centre's displacement along x and y per unit of each body coordinate, small
+        rotations (module docstring's axes): (2, n_body) [m per m or rad]."""
+        h, hx, hy = self.hub_height, self.hub_x, self.hub_y
+        per = {"x": (1.0, 0.0), "y": (0.0, 1.0), "z": (0.0, 0.0)}
+        per.update({"pitch": (-h, 0.0), "roll": (0.0, -h), "yaw": (-hy, hx)})
+        return np.array([per[d] for d in self.dofs], dtype=float).T
+
     def turn(self, angle: float) -> np.ndarray:
         """The body coordinates turned about the vertical by ``angle`` [rad]: (n_body, n_body)."""
         out = np.eye(len(self.dofs))

@@ -353,6 +353,8 @@ class LimitCycleOptions:
         for w in self.confirm:
             if not (finite(w) and w > 0):
                 raise ParameterError("confirm", list(self.confirm), "each speed must be a finite number > 0")
+        if len(set(self.confirm)) != len(self.confirm):
+            raise ParameterError("confirm", list(self.confirm), "must list each speed once")
 
     @property
     def searched(self) -> tuple[float, float]:
@@ -380,12 +382,12 @@ class SimulationOptions:
         if self.window is not None:
             top = self.duration / 2 if self.duration is not None else MAX_DURATION / 2
             if not (finite(self.window) and 0 < self.window <= top):
-                raise ParameterError(
-                    "window",
-                    self.window,
-                    f"must be a finite number > 0 and at most {top:g} [s] "
-                    "(half the duration: the verdict compares two windows)",
+                half = (
+                    f"{top:g} [s], half the duration (the verdict compares two windows)"
+                    if self.duration is not None
+                    else f"half the run's length (at most {top:g} s: the verdict compares two windows)"
                 )
+                raise ParameterError("window", self.window, f"must be a finite number > 0 and at most {half}")
         if self.along_cycle is not None and not (finite(self.along_cycle) and 0 < self.along_cycle <= 100):
             raise ParameterError(
                 "along_cycle", self.along_cycle, "must be a finite number > 0 and at most 100"

@@ -388,7 +388,7 @@ def parse_case(data: dict, source: str = "", text: str = "") -> Case:
     if limit_cycle.confirm and table is not None:  # (known now: refused before any work)
         raise CaseError(
             f"[limit_cycle] confirm = {shown(data['limit_cycle']['confirm'])}: confirming runs simulate the "
-            f'laws, and a law = "table" (blade {table + 1}) gives no moment in time; leave confirm out, or '
+            f'laws, and blade {table + 1}\'s law = "table" gives no moment in time; leave confirm out, or '
             "fit a friction-link law to the table"
         )
     return _build(

@@ -21,6 +21,8 @@ from ..model.mbc import unit_of
 from ..model.units import fmt_speed
 from .damper_laws import laws_block
 
+#: Ranges of speeds named in words before the rest are counted.
+RANGES = 4
 #: A friction link's regularisation (c_reg A w / F) beyond which its cycles are flagged.
 REGULARISED = 0.05
 
@@ -99,19 +101,51 @@ class LimitCycleResult:
         names = ", ".join(str(k + 1) for k in others)
         return f"{math.degrees(cycle.amplitude):.3g} deg of blade {lead + 1} (blades {names}: {listed} deg)"
 
+    def _where(self, found) -> str:
+        """'at 12 of the 100 speeds, from 300 to 400 rpm' (each run of neighbouring speeds its own
+        range: 'from 200 to 250 rpm and from 300 to 400 rpm')."""
+        p, sweep = self.prediction, self.case.sweep
+        runs, start = [], 0
+        for k in range(1, len(found) + 1):
+            if k == len(found) or found[k] != found[k - 1] + 1:
+                runs.append((found[start], found[k - 1]))
+                start = k
+        parts = [
+            f"at {fmt_speed(p.speeds[a], sweep)}"
+            if a == b
+            else f"from {fmt_speed(p.speeds[a], sweep)} to {fmt_speed(p.speeds[b], sweep)}"
+            for a, b in runs[:RANGES]
+        ]
+        more = f" and {len(runs) - RANGES} more ranges" if len(runs) > RANGES else ""
+        listed = (
+            ", ".join(parts[:-1]) + " and " + parts[-1] if len(parts) > 1 and not more else ", ".join(parts)
+        )
+        return f"at {len(found)} of the {len(p.speeds)} speeds, {listed}{more}"
+
     def unbounded_words(self) -> str | None:
-        """'at 12 of the 100 speeds, from 300 to 400 rpm, any disturbance grows without bound (no
-        threshold there)', or None where there is no such speed."""
-        p = self.prediction
-        found = p.unbounded()
+        """'at 12 of the 100 speeds, from 300 to 400 rpm, any disturbance grows without bound (small
+        motion grows, and so does every amplitude searched ...)', or None where there is none."""
+        found = self.prediction.unbounded()
         if not found:
             return None
-        sweep = self.case.sweep
-        first, last = (fmt_speed(p.speeds[i], sweep) for i in (found[0], found[-1]))
-        where = f"at {first}" if len(found) == 1 else f"from {first} to {last}"
+        where, smallest = self._where(found), math.degrees(self.prediction.amplitudes[0])
         return (
-            f"at {len(found)} of the {len(p.speeds)} speeds, {where}, any disturbance grows without bound "
-            "(no threshold there)"
+            f"{where}, any disturbance grows without bound (small motion grows, and so does every amplitude "
+            f"searched from {smallest:.3g} deg: no threshold there)"
+        )
+
+    def below_words(self) -> str | None:
+        """Where small motion does not grow but the smallest amplitude searched does, in words (a
+        threshold lies below the amplitudes searched), or None where there is no such speed."""
+        p = self.prediction
+        found = p.below_searched()
+        if not found:
+            return None
+        smallest = f"{math.degrees(p.amplitudes[0]):.3g} deg"
+        return (
+            f"{self._where(found)}, small motion does not grow but a disturbance of {smallest} (the "
+            "smallest amplitude searched) does: a threshold lies below it (lower [limit_cycle] "
+            "amplitude_min to find it)"
         )
 
     def threshold_words(self, cycle) -> str:
@@ -151,12 +185,15 @@ class LimitCycleResult:
             },
             "damping_unit": "N m s/rad",
             "stiffness_unit": "N m/rad",
+            "growth_unit": "1/s",
             "searched": [math.degrees(a) for a in (p.amplitudes[0], p.amplitudes[-1])],
             "method": self.method,
             "lag_dampers": laws_block(self.case),
             "speeds": [float(w) for w in p.speeds],
             "verdicts": [p.verdict(i) for i in range(len(p.speeds))],
             "unbounded_speeds": [float(p.speeds[i]) for i in p.unbounded()],
+            "threshold_below_searched_speeds": [float(p.speeds[i]) for i in p.below_searched()],
+            "small_motion_growth": [float(g) for g in p.small_growth],
             "cycles": [
                 {
                     "speed": c.speed,
@@ -193,6 +230,10 @@ class LimitCycleResult:
         if entry["stable"]:
             (run,) = runs.values()
             change = f"{100 * entry['error']:+.2g} %"
+            if run.get("stopped") is not None:  # (nothing settled to set against the prediction)
+                return f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from " + (
+                    f"{run['factor']:g} times it the run {run_words(run)}"
+                )
             return (
                 f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from "
                 f"{run['factor']:g} times it the run {run_words(run)}"
@@ -202,7 +243,7 @@ class LimitCycleResult:
         below, above = (runs[f] for f in sorted(runs))
 
         def did(run):
-            side = "" if run["verdict"] != "settled" else " (beyond it)" if run["beyond"] else " (below it)"
+            side = " (heads beyond it)" if run["beyond"] else " (stays below it)"
             return f"{run['factor']:g} times it {run_words(run)}{side}"
 
         predicted = f"{entry['predicted']:.3g} deg"
@@ -323,6 +364,14 @@ def cycle_dataset(result) -> tuple:
             {
                 "units": "1/s",
                 "long_name": "largest real part of a root with lag motion of the equivalent system",
+            },
+        ),
+        "small_motion_growth": (
+            ("speed",),
+            np.asarray(p.small_growth, float),
+            {
+                "units": "1/s",
+                "long_name": "largest real part of a root with lag motion, each law at its slope at rest",
             },
         ),
         "cycle_speed": (

@@ -237,16 +237,17 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
     q0, v0 = np.zeros(system.size), np.zeros(system.size)
     for key, value in values.items():
         base, rate = (key[:-5], True) if key.endswith("_rate") else (key, False)
+        named = f"initial.{key}"  # (each error names its coordinate: [simulation.initial] x, --initial x=)
         if base not in names:
             raise ParameterError(
-                "initial", key, f"not a coordinate; use one of {', '.join(names)} (or NAME_rate)"
+                named, value, f"not a coordinate; use one of {', '.join(names)} (or NAME_rate)"
             )
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-            raise ParameterError("initial", {key: value}, "each value must be a finite number [m, rad]")
+            raise ParameterError(named, value, "each value must be a finite number [m, rad]")
         if abs(value) > LARGEST_MOTION:
             raise ParameterError(
-                "initial",
-                {key: value},
+                named,
+                value,
                 f"|value| <= {LARGEST_MOTION:.0e} [m, rad; m/s, rad/s for a rate]: the equations are "
                 "linear, so the disturbance's size scales the whole motion and leaves its growth rate "
                 "unchanged (the model holds for small motions, centimetres and a few degrees); beyond "
@@ -254,8 +255,8 @@ def initial_state(system: System, values: dict) -> tuple[np.ndarray, np.ndarray]
             )
         if not rate and names.index(base) in system.integrals:
             raise ParameterError(
-                "initial",
-                key,
+                named,
+                value,
                 "an inflow state's position is no state (nothing moves by it); give its rate, the "
                 f"inflow velocity [m/s]: {key}_rate",
             )

@@ -42,20 +42,27 @@ MEASURES = {
         "f8",
         "rad",
         "least lag amplitude above which a disturbance grows (an unstable limit cycle), over the limit-cycle "
-        "speeds; 0 where at some speed any disturbance grows without bound; NaN: none, or no nonlinear lag "
-        "damper law",
+        "speeds; 0 where at some speed any disturbance grows without bound; amplitude_min, an upper bound, "
+        "where a threshold lies below the amplitudes searched (below_searched_speed_count); NaN: none, or no "
+        "nonlinear lag damper law",
     ),
     "smallest_threshold_speed": (
         "f8",
         "rad/s",
         "rotor speed of the smallest threshold (where it is 0: the first speed at which any disturbance "
-        "grows)",
+        "grows; where it is amplitude_min: the first speed whose threshold lies below it)",
     ),
-    "unbounded_speeds": (
+    "unbounded_speed_count": (
         "f8",
         "1",
-        "number of limit-cycle speeds at which any disturbance grows without bound (no threshold there); "
-        "NaN: no nonlinear lag damper law",
+        "number of limit-cycle speeds at which any disturbance grows without bound (small motion grows, no "
+        "threshold there); NaN: no nonlinear lag damper law",
+    ),
+    "below_searched_speed_count": (
+        "f8",
+        "1",
+        "number of limit-cycle speeds at which small motion does not grow but the smallest amplitude "
+        "searched does (a threshold lies below amplitude_min); NaN: no nonlinear lag damper law",
     ),
     "largest_stable_cycle": (
         "f8",
@@ -115,12 +122,16 @@ def cycle_measures(case) -> dict:
     law over ``[limit_cycle]``'s speeds and amplitudes (amplitudes of the blade that moves most, rad);
     NaN without a law or without such a cycle. Where at some speed any disturbance grows without
     bound (:meth:`groundres.assess.limit_cycles.LimitCycles.unbounded`) the smallest threshold is
-    0 at the first such speed: a threshold elsewhere would flatter the design. ``unbounded_speeds``
-    counts those speeds."""
+    0 at the first such speed: a threshold elsewhere would flatter the design. Else, where a
+    threshold lies below the amplitudes searched
+    (:meth:`groundres.assess.limit_cycles.LimitCycles.below_searched`) it is at most the smallest
+    amplitude searched, recorded as such where no threshold found is smaller. ``unbounded_speed_count``
+    and ``below_searched_speed_count`` count those speeds."""
     names = (
         "smallest_threshold",
         "smallest_threshold_speed",
-        "unbounded_speeds",
+        "unbounded_speed_count",
+        "below_searched_speed_count",
         "largest_stable_cycle",
         "largest_stable_cycle_speed",
     )
@@ -130,14 +141,16 @@ def cycle_measures(case) -> dict:
     options = case.limit_cycle
     speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
     found = predict(case, speeds, searched=options.searched)
-    cycles, unbounded = found.cycles, found.unbounded()
+    cycles, unbounded, below = found.cycles, found.unbounded(), found.below_searched()
     thresholds, stable = [c for c in cycles if not c.stable], [c for c in cycles if c.stable]
-    out["unbounded_speeds"] = float(len(unbounded))
+    out["unbounded_speed_count"], out["below_searched_speed_count"] = float(len(unbounded)), float(len(below))
+    candidates = [(c.amplitude, c.speed) for c in thresholds]
+    if below:
+        candidates.append((float(found.amplitudes[0]), float(speeds[below[0]])))
     if unbounded:
         out["smallest_threshold"], out["smallest_threshold_speed"] = 0.0, float(speeds[unbounded[0]])
-    elif thresholds:
-        worst = min(thresholds, key=lambda c: c.amplitude)
-        out["smallest_threshold"], out["smallest_threshold_speed"] = worst.amplitude, worst.speed
+    elif candidates:
+        out["smallest_threshold"], out["smallest_threshold_speed"] = min(candidates)
     if stable:
         largest = max(stable, key=lambda c: c.amplitude)
         out["largest_stable_cycle"], out["largest_stable_cycle_speed"] = largest.amplitude, largest.speed
