@@ -442,3 +442,23 @@ def test_speeds_that_grow_from_any_disturbance_are_named_range_by_range():
     words = LimitCycleResult(case, found).unbounded_words()
     assert words.startswith("at 4 of the 6 speeds, from 100 rpm") and " to 150 rpm" in words
     assert ", at 250 rpm (" in words and " and at 350 rpm (" in words
+
+
+def test_a_nearly_undamped_rotor_is_neutral_where_the_linear_analysis_says_so():
+    """Bilinear dampers of 1e-3 N m s/rad on the undamped Hammond rotor: outside its ground-
+    resonance ranges every root is within the linear analysis's growth threshold of zero, and a
+    growth of 1e-8 1/s there no longer reads as 'decays' or 'grows from any disturbance'; inside
+    them every disturbance grows."""
+    text, source = case_text("hammond-undamped")
+    text = text.replace("lag_damping = 0.0", "") + (
+        '\n[rotor.lag_damper]\nlaw = "bilinear"\ndamping = 1e-3\nrelief_moment = 1e-4\n'
+        "damping_after_relief = 1e-5\n"
+    )
+    case = parse_case(tomllib.loads(text), source, text)
+    speeds = np.linspace(case.sweep.start, case.sweep.stop, 30)
+    found = limit_cycles.predict(case, speeds, per_decade=2)
+    neutral = [i for i in range(30) if found.small_sign(i) == 0]
+    growing = [i for i in range(30) if found.small_sign(i) > 0]
+    assert neutral and growing and len(neutral) + len(growing) == 30
+    assert all(found.verdict(i).startswith("neutral at every amplitude searched") for i in neutral)
+    assert found.unbounded() == growing and not found.below_searched()

@@ -138,10 +138,21 @@ class LimitCycles:
             words = "small motion grows to a stable cycle below the amplitudes searched"
             if not cycles:
                 return words + " (larger ones decay)"
+        elif not cycles and first == 0:  # (neutral: what larger amplitudes do, if anything)
+            band = float(growth_threshold(self.speeds[i]))
+            row = self.growth[i]
+            if (row > band).any():
+                return "neutral for small disturbances; larger ones grow without bound"
+            if (row < -band).any():
+                return "neutral for small disturbances; larger ones decay"
+            return "neutral at every amplitude searched (within the linear analysis's growth threshold)"
         elif not cycles:
             return "grows from any disturbance" if first > 0 else "decays from any disturbance searched"
         else:
-            words = "grows from any small disturbance" if first > 0 else "small disturbances decay"
+            words = {
+                1: "grows from any small disturbance",
+                0: "small disturbances neither grow nor decay",
+            }.get(first, "small disturbances decay")
         for k, cycle in enumerate(cycles):
             last = k == len(cycles) - 1
             if cycle.stable:  # (reached from below, where the motion grows)

@@ -248,14 +248,17 @@ class Refiner:
 
 def golden(fun, a, b, xtol, most: int = 60):
     """Minima of ``fun`` (batched: ``fun(x)`` for an array of k points, one per bracket) over
-    the brackets [a, b] (k,), by golden-section search to ``xtol`` of the speed; the value
-    and where, (k,) each, the better of the last two points."""
+    the brackets [a, b] (k,), by golden-section search to ``xtol`` of the speed (of the bracket's
+    upper end as given: a search that closes on a speed near rest does not narrow its step with
+    it, where a periodic analysis costs most); the value and where, (k,) each, the better of the
+    last two points."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = a.copy(), b.copy()
+    scale = np.maximum(np.abs(b), 1e-300)
     c, d = b - g * (b - a), a + g * (b - a)
     fc, fd = fun(c), fun(d)
     for _ in range(most):
-        if np.all(b - a <= xtol * np.maximum(np.abs(b), 1e-300)):
+        if np.all(b - a <= xtol * scale):
             break
         left = fc <= fd
         b = np.where(left, d, b)
