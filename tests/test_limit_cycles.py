@@ -421,9 +421,13 @@ def test_a_threshold_below_the_amplitudes_searched_is_said_and_bounds_a_study_s_
         if any(not c.stable and c.amplitude < math.radians(5) for c in full.at(speeds[i]))
     ]
     assert small and found.below_searched() == small and not found.unbounded()
-    assert all(found.verdict(i).startswith("small motion decays, but the smallest") for i in small)
+    said = "small motion decays; a threshold lies below 5 deg, the smallest searched: a disturbance above it"
+    assert all(found.verdict(i).startswith(said) for i in small)
     words = LimitCycleResult(case, found).below_words()
     assert f"at {len(small)} of the 12 speeds" in words and "5 deg" in words
+    ds = LimitCycleResult(case, found).to_xarray()
+    assert np.array_equal(ds.small_motion_growth.values, found.small_growth)
+    assert ds.small_motion_growth.attrs["units"] == "1/s"
     measures = cycle_measures(case)
     assert measures["smallest_threshold"] == pytest.approx(math.radians(5.0), rel=1e-12)
     assert measures["smallest_threshold_speed"] == speeds[small[0]]
@@ -462,3 +466,60 @@ def test_a_nearly_undamped_rotor_is_neutral_where_the_linear_analysis_says_so():
     assert neutral and growing and len(neutral) + len(growing) == 30
     assert all(found.verdict(i).startswith("neutral at every amplitude searched") for i in neutral)
     assert found.unbounded() == growing and not found.below_searched()
+
+
+def test_each_speed_is_said_from_small_motion_up_through_the_amplitudes_searched():
+    """Synthetic scans (no cycles): the verdict and the lists of speeds read the small-motion growth
+    and the first amplitude that is not neutral (within the growth threshold, 1e-6 x Omega + 1e-9
+    1/s, a growth is neutral), so no row contradicts its numbers."""
+    speeds = np.array([10.0, 20.0, 30.0, 40.0, 50.0])
+    amplitudes = np.radians([0.01, 0.1, 1.0])
+    tiny = 1e-7  # (within the threshold at these speeds)
+    growth = np.array(
+        [
+            [-0.5, -0.5, -0.5],  # small motion grows: a stable cycle below the amplitudes searched
+            [tiny, 0.3, 0.4],  # small motion decays, growth from 0.1 deg: a threshold below it
+            [tiny, -tiny, tiny],  # neutral throughout (round-off changes sign: no cycle)
+            [tiny, 0.3, 0.4],  # small motion grows, so do the amplitudes searched
+            [0.2, 0.2, 0.2],  # small motion neutral, the amplitudes searched grow
+        ]
+    )
+    small = np.array([0.1, -0.1, 0.0, 0.1, tiny])
+    found = limit_cycles.LimitCycles(speeds, amplitudes, growth, small)
+    assert found.stable_below_searched() == [0] and found.below_searched() == [1, 4]
+    assert found.unbounded() == [3]
+    assert found.verdict(0) == (
+        "small motion grows to a stable cycle below 0.01 deg, the smallest searched (larger ones decay to it)"
+    )
+    assert found.verdict(
+        1
+    ) == "small motion decays; a threshold lies below 0.1 deg: a disturbance above it " + (
+        "grows without bound"
+    )
+    assert found.verdict(2).startswith("neutral at every amplitude searched")
+    assert found.verdict(3) == "grows from any disturbance"
+    assert found.verdict(
+        4
+    ) == "small motion is neutral; from 0.01 deg, the smallest searched, a disturbance " + (
+        "grows without bound"
+    )
+    s_i, _ = limit_cycles._crossings(growth, speeds)
+    assert not len(s_i)  # (row 2's sign changes are within the threshold)
+
+
+def test_a_study_names_the_speed_of_a_threshold_below_the_amplitudes_searched_from_a_sweep_at_rest():
+    """A sweep from rest: its speed 0 has no cycle and is left out of the prediction, so the study's
+    speeds are the prediction's own (they were the sweep's, one step too low)."""
+    from groundres.studies.measures import cycle_measures
+
+    text, source = case_text("hammond-relief-valve")
+    text = text.replace("amplitude_min = 0.01 ", "amplitude_min = 5.0 ").replace("points = 100", "points = 6")
+    text = text.replace("start = ", "start = 0.0 #", 1)
+    case = parse_case(tomllib.loads(text), source, text)
+    assert case.sweep.start == 0.0
+    found = limit_cycles.predict(
+        case, np.linspace(0.0, case.sweep.stop, 6), searched=case.limit_cycle.searched
+    )
+    below = [float(found.speeds[i]) for i in found.below_searched()]
+    measures = cycle_measures(case)
+    assert below and measures["smallest_threshold_speed"] == below[0]

@@ -248,3 +248,22 @@ def test_a_coarse_periodic_sweep_from_rest_still_sees_the_resonance():
     summary = coarse.summary()
     assert summary["max_real_part"]["mode"] == "regressive lag" and summary["max_real_part"]["vibrating"]
     assert not summary["min_damping_ratio"]["neutral"]
+
+
+def test_golden_section_stops_at_its_tolerance_of_the_bracket_s_upper_speed():
+    """A minimum at the lower end of [0.001, 10] rad/s (a margin that closes on rest, where a periodic
+    analysis costs most): the search stops once its bracket is 1e-4 of 10 rad/s wide, not 1e-4 of
+    the 0.001 rad/s it closes on (three times the evaluations, each the dearest of the sweep)."""
+    import numpy as np
+
+    from groundres.assess.refine import golden
+
+    calls = []
+
+    def f(x):
+        calls.append(1)
+        return np.asarray(x, float).copy()
+
+    value, at = golden(f, np.array([0.001]), np.array([10.0]), 1e-4)
+    assert at[0] - 0.001 <= 1e-4 * 10.0 and value[0] == at[0]
+    assert len(calls) <= 2 + int(np.ceil(np.log(1e-4) / np.log(0.618))) + 1

@@ -213,7 +213,7 @@ def test_groundres_cycles_confirms_the_listed_speeds_by_simulation(tmp_path):
     assert (
         "the threshold of 2.38 deg is confirmed: 0.8 times it decays (stays below it), 1.25 times it" in said
     )
-    assert "grows past 90 deg (stopped at" in said and "s) (heads beyond it)" in said
+    assert "grows past 90 deg, where it stopped at" in said and " s (heads beyond it)" in said
     assert none["speed"] == pytest.approx(100 * RPM) and none["runs"] == [] and none["confirmed"] is None
     assert "at 100 rpm" in said and "no cycle is predicted (decays from any disturbance searched)" in said
 
@@ -345,12 +345,12 @@ def test_a_confirmation_says_where_every_run_heads_and_that_a_stopped_run_passed
         "runs": [run],
     }
     said = found.confirmation_words(stable)
-    assert "the run grows past 90 deg (stopped at 2.5 s)" in said and "%" not in said
+    assert "the run grows past 90 deg, where it stopped at 2.5 s" in said and "%" not in said
     below = {"verdict": "settled", "amplitude": 1.0, "stopped": None, "factor": 0.8, "beyond": False}
     threshold = {**stable, "stable": False, "confirmed": True, "runs": [below, {**run, "beyond": True}]}
     said = found.confirmation_words(threshold)
     assert "0.8 times it settles at 1 deg (stays below it)" in said
-    assert "1.25 times it grows past 90 deg (stopped at 2.5 s) (heads beyond it)" in said
+    assert "1.25 times it grows past 90 deg, where it stopped at 2.5 s (heads beyond it)" in said
 
 
 def test_a_run_too_short_for_its_motion_is_refused_naming_the_key(tmp_path):

@@ -348,10 +348,15 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         progress("limit cycles", 1, 1)
     confirmations = []
     if options.confirm:  # (each listed speed's cycles against runs of the nonlinear equations)
-        from .assess.confirm import confirm
+        from .assess.confirm import confirm, run_length
 
         at_speeds = predict(case, list(options.confirm), searched=options.searched)
         cycles = at_speeds.cycles
+        try:  # (every run's length checked before the first runs)
+            for cycle in cycles:
+                run_length(case, cycle, case.simulation.duration, case.simulation.window)
+        except ParameterError as err:  # (the run's length or window, from the case file)
+            raise CaseError(f"[simulation] {err}") from None
         for i, speed in enumerate(at_speeds.speeds):  # (a speed without cycles: said so)
             if not at_speeds.at(float(speed)):
                 none = {"stable": None, "predicted": None, "confirmed": None, "runs": []}
@@ -359,11 +364,9 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         for i, cycle in enumerate(cycles):
             report = progress and (lambda d, t, i=i: progress("confirm", i + d / t, len(cycles)))
             others = [c for c in cycles if c.speed == cycle.speed and c is not cycle]
-            try:
-                entry = confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
-            except ParameterError as err:  # (the run's length or window, from the case file)
-                raise CaseError(f"[simulation] {err}") from None
-            confirmations.append(entry)
+            confirmations.append(
+                confirm(case, cycle, case.simulation.duration, case.simulation.window, report, others)
+            )
         confirmations.sort(key=lambda e: e["speed"])
     sweep = analyze(case, lag_damping_search=False, progress=progress) if linear else None
     return LimitCycleResult(case, prediction, sweep, confirmations)

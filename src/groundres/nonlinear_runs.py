@@ -17,7 +17,7 @@ from .assess import confirm as confirming
 from .assess.limit_cycles import disturbance, predict
 from .errors import CaseError, ParameterError
 from .model.params import MAX_DURATION, Case, SimulationOptions
-from .model.units import SPEED_UNITS
+from .model.units import SPEED_UNITS, fmt_speed
 from .results.nonlinear_run import NonlinearRun
 from .solve import nonlinear
 from .solve.simulate import default_initial, initial_state, initial_text
@@ -109,14 +109,8 @@ def run_nonlinear(
     run_for = confirming.default_duration(frequency) if given.duration is None else given.duration
     run_for = min(run_for, MAX_DURATION)
     measured_over = confirming.WINDOW_SHARE * run_for if given.window is None else given.window
-    confirming.check_length(run_for, min(measured_over, run_for / 2), frequency)
-    if not measured_over <= run_for / 2:
-        length = "the default at this speed" if given.duration is None else "the duration given"
-        raise ParameterError(
-            "window",
-            measured_over,
-            f"must be at most half the run ({run_for / 2:g} s; the run lasts {run_for:g} s, {length})",
-        )
+    where = f"at {fmt_speed(speed, case.sweep)}"
+    confirming.check_length(run_for, measured_over, frequency, where, given.duration is None)
     history = nonlinear.integrate(case, speed, run_for, start, progress=progress)
     return NonlinearRun(case, speed, words, confirming.measure(history, measured_over), predicted)
 

@@ -134,9 +134,9 @@ def beyond(measured: Measured, threshold: float, stable=()) -> bool:
 
 def run_words(run: dict) -> str:
     """What a run did, from its entry in limit_cycles.json: 'decays', 'grows', 'settles at
-    1.21 deg', 'grows past 90 deg (stopped at 3.2 s)'."""
+    1.21 deg', 'grows past 90 deg, where it stopped at 3.2 s'."""
     if run.get("stopped") is not None:
-        return f"grows past 90 deg (stopped at {run['stopped']:.3g} s)"
+        return f"grows past 90 deg, where it stopped at {run['stopped']:.3g} s"
     if run["verdict"] == "settled":
         return f"settles at {run['amplitude']:.3g} deg"
     return run["verdict"]
@@ -157,28 +157,51 @@ def _two(parts):
     return parts[:2]
 
 
-def check_length(duration: float, window: float, frequency: float) -> None:
-    """Refuse a run of ``duration`` [s] measured over windows of ``window`` [s] too short for its
-    motion at ``frequency`` [rad/s, rotating frame]: a ParameterError naming duration or window."""
+def check_length(duration: float, window: float, frequency: float, where: str, default: bool = False) -> None:
+    """Refuse a run of ``duration`` [s] measured over windows of ``window`` [s] that does not fit
+    its motion at ``frequency`` [rad/s, rotating frame] ``where`` ('at 264.34 rpm'): a window
+    beyond half the run, or a run or window too short for the motion; a ParameterError naming
+    duration or window. ``default``: the run's length is the default at that speed."""
     from ..errors import ParameterError
     from ..model.params import MAX_DURATION
 
     period = 2 * math.pi / max(frequency, 1e-3)
     shortest = min(MIN_PERIODS * period, MAX_DURATION)
+    motion = f"the motion {where}, of {period:.3g} s each"
     if duration < shortest:
         raise ParameterError(
             "duration",
             duration,
-            f"must be at least {shortest:.3g} [s] here: {MIN_PERIODS} periods of the motion ({period:.3g} s "
-            "each), for two measuring windows that each hold a few of them",
+            f"must be at least {shortest:.3g} [s]: {MIN_PERIODS} periods of {motion}, so that each of the "
+            "two measuring windows holds a few",
+        )
+    if window > duration / 2:
+        length = "the default " + where if default else "the duration given"
+        raise ParameterError(
+            "window",
+            window,
+            f"must be at most half the run, {duration / 2:.3g} [s]: the run lasts {duration:.3g} s, {length}",
         )
     if window < min(WINDOW_PERIODS * period, shortest / 5):
         raise ParameterError(
             "window",
             window,
-            f"must be at least {WINDOW_PERIODS * period:.3g} [s] here: {WINDOW_PERIODS} periods of the "
-            f"motion ({period:.3g} s each), for its amplitude to be measured",
+            f"must be at least {WINDOW_PERIODS * period:.3g} [s]: {WINDOW_PERIODS} periods of {motion}, for "
+            "its amplitude to be measured",
         )
+
+
+def run_length(case, cycle, duration=None, window=None) -> tuple[float, float]:
+    """The (duration, window) [s] of a run confirming ``cycle`` of ``case``: those given, or the
+    defaults at its speed (:func:`default_duration`, :data:`WINDOW_SHARE` of it), checked
+    (:func:`check_length`)."""
+    from ..model.units import fmt_speed
+
+    default = duration is None
+    duration = default_duration(cycle.frequency) if default else duration
+    window = WINDOW_SHARE * duration if window is None else window
+    check_length(duration, window, cycle.frequency, f"at {fmt_speed(cycle.speed, case.sweep)}", default)
+    return duration, window
 
 
 def default_duration(frequency: float) -> float:
@@ -216,9 +239,7 @@ def confirm(
     from ..solve import nonlinear
     from .limit_cycles import disturbance
 
-    duration = default_duration(cycle.frequency) if duration is None else duration
-    window = WINDOW_SHARE * duration if window is None else window
-    check_length(duration, min(window, duration / 2), cycle.frequency)
+    duration, window = run_length(case, cycle, duration, window)
     stable = [c.amplitude for c in others if c.stable]
     system = nonlinear.structure(case)
     factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
@@ -285,8 +306,7 @@ def bracket_threshold(
     from .limit_cycles import disturbance
 
     system = nonlinear.structure(case)
-    duration = 120 * math.pi / cycle.frequency if duration is None else duration
-    check_length(duration, duration / 5, cycle.frequency)
+    duration, _ = run_length(case, cycle, 120 * math.pi / cycle.frequency if duration is None else duration)
     stable = [c.amplitude for c in others if c.stable]
 
     runs = [0]

@@ -90,69 +90,87 @@ class LimitCycles:
         """The cycles at ``speed`` [rad/s] (one of :attr:`speeds`)."""
         return [c for c in self.cycles if c.speed == speed]
 
-    def _sign(self, g, i) -> int:
-        """+1 where ``g`` grows at speed ``i``, -1 where it decays, 0 within the linear analysis's
-        neutral band (:func:`groundres.assess.stability.growth_threshold`)."""
+    def signs(self, i: int) -> np.ndarray:
+        """Along the amplitudes scanned at speed ``i``: +1 where the motion grows, -1 where it
+        decays, 0 within the linear analysis's growth threshold of neutral
+        (:func:`groundres.assess.stability.growth_threshold`)."""
         band = float(growth_threshold(self.speeds[i]))
-        return 1 if g > band else -1 if g < -band else 0
+        row = self.growth[i]
+        return np.where(row > band, 1, np.where(row < -band, -1, 0))
 
     def small_sign(self, i: int) -> int:
         """Whether small motion grows (+1), decays (-1) or is neutral (0) at speed ``i``: the
         linear analysis's verdict on the least stable root with lag motion."""
-        return self._sign(self.small_growth[i], i)
+        band = float(growth_threshold(self.speeds[i]))
+        g = self.small_growth[i]
+        return 1 if g > band else -1 if g < -band else 0
 
-    def first_sign(self, i: int) -> int:
-        """The same at the smallest amplitude searched."""
-        return self._sign(self.growth[i, 0], i)
+    def lead(self, i: int) -> tuple[int, float | None]:
+        """The first sign other than neutral along the amplitudes scanned at speed ``i`` and the
+        amplitude it starts at [rad] ((0, None): neutral at every amplitude)."""
+        signs = self.signs(i)
+        moving = np.flatnonzero(signs)
+        if not len(moving):
+            return 0, None
+        return int(signs[moving[0]]), float(self.amplitudes[moving[0]])
 
     def unbounded(self) -> list:
         """Indices of the speeds at which any disturbance grows without bound: small motion grows,
-        so does the smallest amplitude searched, and no stable cycle holds it (no threshold there:
-        the least disturbance that diverges is none)."""
+        so do the amplitudes searched (the first that are not neutral), and no stable cycle holds
+        it (no threshold there: the least disturbance that diverges is none)."""
         return [
             i
             for i, speed in enumerate(self.speeds)
             if self.small_sign(i) > 0
-            and self.first_sign(i) > 0
+            and self.lead(i)[0] > 0
             and not any(c.stable for c in self.at(float(speed)))
         ]
 
     def below_searched(self) -> list:
-        """Indices of the speeds at which small motion does not grow but the smallest amplitude
-        searched does: a threshold lies between rest and the amplitudes searched."""
-        return [i for i in range(len(self.speeds)) if self.small_sign(i) <= 0 and self.first_sign(i) > 0]
+        """Indices of the speeds at which small motion does not grow but the amplitudes searched
+        do (the first that are not neutral) before any threshold: a threshold lies below the
+        amplitude at which the growth starts (:meth:`lead`)."""
+        return [i for i in range(len(self.speeds)) if self.small_sign(i) <= 0 and self.lead(i)[0] > 0]
+
+    def stable_below_searched(self) -> list:
+        """Indices of the speeds at which small motion grows but the amplitudes searched decay
+        (the first that are not neutral): a stable cycle lies below the amplitude at which the
+        decay starts (:meth:`lead`)."""
+        return [i for i in range(len(self.speeds)) if self.small_sign(i) > 0 and self.lead(i)[0] < 0]
 
     def verdict(self, i: int) -> str:
-        """What happens at speed ``i`` in words (without numbers), from small motion (the linear
-        analysis) up through the amplitudes searched: the cycles in order, stable ones attracting,
-        unstable ones thresholds."""
+        """What happens at speed ``i`` in words, from small motion (the linear analysis) up
+        through the amplitudes searched: the cycles in order, stable ones attracting, unstable
+        ones thresholds."""
         cycles = sorted(self.at(float(self.speeds[i])), key=lambda c: c.amplitude)
-        small, first = self.small_sign(i), self.first_sign(i)
-        if first > 0 and small <= 0:
-            state = "decays" if small < 0 else "is neutral"
-            words = f"small motion {state}, but the smallest disturbance searched grows"
-            words += " (a threshold lies below it)"
+        small, (lead, start) = self.small_sign(i), self.lead(i)
+        if small == 0 and lead < 0:  # (a neutral root, such as a stuck friction damper's creep: decays)
+            small = -1
+        at = None if start is None else f"{math.degrees(start):.3g} deg"
+        if start is not None and start == self.amplitudes[0]:
+            at += ", the smallest searched"
+        if small == lead:
+            if not cycles:
+                return {
+                    1: "grows from any disturbance",
+                    -1: "decays from any disturbance searched",
+                    0: "neutral at every amplitude searched (within the linear analysis's growth threshold)",
+                }[lead]
+            words = "grows from any small disturbance" if lead > 0 else "small disturbances decay"
+        elif lead == 0:
+            state = "grows" if small > 0 else "decays"
+            return f"small motion {state}; every amplitude searched is neutral (within the growth threshold)"
+        elif small > 0:  # (and the amplitudes searched decay)
+            words = f"small motion grows to a stable cycle below {at}"
+            if not cycles:
+                return words + " (larger ones decay to it)"
+        else:  # (the amplitudes searched grow; small motion decays or is neutral)
+            if small < 0:
+                words = f"small motion decays; a threshold lies below {at}: a disturbance above it grows"
+            else:
+                words = f"small motion is neutral; from {at}, a disturbance grows"
             if not cycles:
                 return words + " without bound"
-        elif first <= 0 and small > 0:
-            words = "small motion grows to a stable cycle below the amplitudes searched"
-            if not cycles:
-                return words + " (larger ones decay)"
-        elif not cycles and first == 0:  # (neutral: what larger amplitudes do, if anything)
-            band = float(growth_threshold(self.speeds[i]))
-            row = self.growth[i]
-            if (row > band).any():
-                return "neutral for small disturbances; larger ones grow without bound"
-            if (row < -band).any():
-                return "neutral for small disturbances; larger ones decay"
-            return "neutral at every amplitude searched (within the linear analysis's growth threshold)"
-        elif not cycles:
-            return "grows from any disturbance" if first > 0 else "decays from any disturbance searched"
-        else:
-            words = {
-                1: "grows from any small disturbance",
-                0: "small disturbances neither grow nor decay",
-            }.get(first, "small disturbances decay")
         for k, cycle in enumerate(cycles):
             last = k == len(cycles) - 1
             if cycle.stable:  # (reached from below, where the motion grows)
@@ -348,7 +366,7 @@ def predict(
     equivalent.prepare(speeds)
     growth = equivalent.scan(amplitudes)
     # brackets of a sign change, refined by the Illinois method on log amplitude, all together
-    s_i, a_i = np.nonzero(np.sign(growth[:, :-1]) * np.sign(growth[:, 1:]) < 0)
+    s_i, a_i = _crossings(growth, speeds)
     # (a scan may settle its points only as far as their sign needs: each bracket's ends again,
     # in full, and only the brackets that still change sign kept)
     g_low = equivalent.neutrality(s_i, amplitudes[a_i])[0] if len(s_i) else np.zeros(0)
@@ -379,6 +397,26 @@ def predict(
             equivalent.cycle(speeds[s], a, b, state, j) for j, (s, a, b) in enumerate(zip(s_i, found, below))
         ]
     return result
+
+
+def _crossings(growth, speeds) -> tuple[np.ndarray, np.ndarray]:
+    """The brackets (speed index, amplitude index) of the scan's sign changes that carry the
+    motion from growing to decaying or back beyond the linear analysis's growth threshold: a
+    change of sign within it (round-off about a neutral root) is no cycle. Of the changes between
+    two amplitudes outside the threshold, the first is kept."""
+    band = growth_threshold(speeds)[:, None]
+    signs = np.where(growth > band, 1, np.where(growth < -band, -1, 0))
+    s_i, a_i = np.nonzero(np.sign(growth[:, :-1]) * np.sign(growth[:, 1:]) < 0)
+    kept, seen = [], set()
+    for k, (s, a) in enumerate(zip(s_i, a_i)):  # (a few per speed at most)
+        before = np.flatnonzero(signs[s, : a + 1])
+        after = np.flatnonzero(signs[s, a + 1 :])
+        if not len(before) or not len(after):
+            continue
+        if signs[s, before[-1]] != signs[s, a + 1 + after[0]] and (s, before[-1]) not in seen:
+            seen.add((s, before[-1]))
+            kept.append(k)
+    return s_i[kept], a_i[kept]
 
 
 def disturbance(system, cycle: Cycle, factor: float = 1.0):

@@ -79,16 +79,18 @@ def _print(console, found) -> None:
     unbounded = found.unbounded_words()
     if unbounded is not None:
         console.print(plain(f"Grows from any disturbance: {unbounded}."))
-    below = found.below_words()
+    below, settles = found.below_words(), found.stable_below_words()
     if below is not None:
         console.print(plain(f"Threshold below the amplitudes searched: {below}."))
+    if settles is not None:
+        console.print(plain(f"Stable cycle below the amplitudes searched: {settles}."))
     if worst is not None:
         elsewhere = " (where there is one)" if unbounded is not None else ""
         elsewhere = " (of those found)" if below is not None else elsewhere
         console.print(plain(f"Smallest threshold{elsewhere}: {found.threshold_words(worst)}."))
     if largest is not None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))
-    if worst is None and largest is None and unbounded is None and below is None:
+    if all(x is None for x in (worst, largest, unbounded, below, settles)):
         console.print("No limit cycle within the amplitudes searched.")
     for entry in found.confirmations:
         console.print(plain(f"Simulation: {found.confirmation_words(entry)}."))

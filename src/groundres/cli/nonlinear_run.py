@@ -70,8 +70,8 @@ def run(console, the_case, w, speed, duration, values, along, window, threshold,
                 "initial": bool(values),
             }
             key, _, name = err.key.partition(".")
-            if key == "window" and duration is not None and err.value > duration / 2:  # (--time set it)
-                err.allowed += f" (--time = {duration!r} sets the run's length)"
+            if key == "window" and duration is not None:  # (the run's length is the option's)
+                err.allowed = err.allowed.replace("the duration given", f"--time = {duration!r}")
             if key in on_line and not on_line[key]:
                 table = "[simulation.initial]" if key == "initial" else "[simulation]"
                 fail_user(f"{table} {name or key} = {shown(err.value)}: {err.allowed}")

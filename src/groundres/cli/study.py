@@ -182,8 +182,10 @@ def command(case, vary, failures, out, workers, scheduler, dashboard, boundary, 
     study.nc (measures per point: growth_margin, least_damping_ratio,
     least_damping_ratio_run_up, margin, max_real_part, min_damping_ratio,
     unstable_width, first_unstable_speed, stable, and with a nonlinear lag damper law
-    smallest_threshold (0 where some speed grows from any disturbance) and largest_stable_cycle
-    with their speeds, unbounded_speed_count and below_searched_speed_count; error) and map.<format>
+    smallest_threshold (0 where some speed grows from any disturbance; an upper bound where a
+    threshold lies below the amplitudes searched) and largest_stable_cycle with their speeds,
+    unbounded_speed_count, below_searched_speed_count and stable_below_searched_speed_count;
+    error) and map.<format>
     (png unless --format says) into --out. Runs on a local Dask cluster unless --scheduler names one.
     """
     from ..results import files, folders

@@ -383,7 +383,7 @@ class SimulationOptions:
             top = self.duration / 2 if self.duration is not None else MAX_DURATION / 2
             if not (finite(self.window) and 0 < self.window <= top):
                 half = (
-                    f"{top:g} [s], half the duration (the verdict compares two windows)"
+                    f"{top:g} [s], half the duration given (the verdict compares two windows)"
                     if self.duration is not None
                     else f"half the run's length (at most {top:g} s: the verdict compares two windows)"
                 )

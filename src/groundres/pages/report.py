@@ -174,6 +174,7 @@ def cycle_section(found, fmt: str) -> dict:
         "threshold": found.threshold_words(worst) if worst is not None else None,
         "unbounded": found.unbounded_words(),
         "below": found.below_words(),
+        "settles_below": found.stable_below_words(),
         "stable": found.stable_words(largest) if largest is not None else None,
         "rows": [
             {

@@ -242,19 +242,33 @@ def _has_cycles(ds) -> bool:
 
 def _cycle_panel(ax, x, series, failures):
     """The smallest threshold (dashed) and the largest stable cycle (solid) against the key [deg];
-    a threshold of 0 (at some speed any disturbance grows) as a triangle on the axis's floor."""
+    a threshold of 0 (at some speed any disturbance grows) as a triangle on the axis's floor; a
+    value that is an upper bound (a cycle below the amplitudes searched) as an open triangle."""
     floors = []
     for i, (name, part) in enumerate(series):
         color = f"C{i}"
         suffix = f" ({name})" if failures else ""
-        for variable, style, words in (
-            ("smallest_threshold", "--", "smallest threshold"),
-            ("largest_stable_cycle", "-", "largest stable cycle"),
+        for variable, style, words, bound in (
+            ("smallest_threshold", "--", "smallest threshold", "below_searched_speed_count"),
+            ("largest_stable_cycle", "-", "largest stable cycle", "stable_below_searched_speed_count"),
         ):
             values = np.degrees(np.asarray(part[variable].values, float))
             shown = np.where(values > 0, values, np.nan)
             if np.isfinite(shown).any():
                 ax.plot(x, shown, style, marker=".", color=color, label=words + suffix)
+            if bound in part:  # (studies written before the bound was recorded have none)
+                at_most = np.isfinite(shown) & (np.asarray(part[bound].values, float) > 0)
+                if at_most.any():
+                    ax.plot(
+                        np.asarray(x)[at_most],
+                        shown[at_most],
+                        "v",
+                        markerfacecolor="none",
+                        color=color,
+                        markersize=8,
+                        linestyle="none",
+                        label=f"{words}: at most (a cycle below the amplitudes searched)" + suffix,
+                    )
             if (values == 0).any():
                 floors.append((np.asarray(x)[values == 0], color, suffix))
     ax.set_yscale("log")

@@ -24,6 +24,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ..assess.stability import GROWTH_FLOOR, GROWTH_PER_RADIAN, growth_threshold, is_neutral
 from ..model.params import Case
 from .sweep import SweepResult
@@ -55,8 +57,9 @@ SPEED_ROUND_OFF = 1e-7
 #: ``sqrt(2 d / abs(f''))``. Ten times the search tolerance.
 PEAK_SPEED_ROUND_OFF = 1e-5
 #: Round-off of the speed of a margin (the growth margin's, the least damping ratio's),
-#: relative [-]: found by golden-section search to 1e-4 of the speed for a periodic
-#: analysis (1e-6 eigen, :data:`groundres.assess.margins.XTOL`); ten times that.
+#: relative [-] to the top of the bracket it was refined in (the sweep's next speed): found by
+#: golden-section search to 1e-4 of that for a periodic analysis (1e-6 eigen,
+#: :data:`groundres.assess.margins.XTOL`); ten times that.
 MARGIN_SPEED_ROUND_OFF = 1e-3
 #: Round-off of a least damping ratio [-]: a smooth minimum found to 1e-4 of its speed
 #: moves by ~f'' (1e-4 w)^2 / 2, under 1e-8 on the shipped cases; where the minimum lies
@@ -77,15 +80,16 @@ ROUND_OFF = {
         "the difference is round-off whatever its size)"
     ),
     "growth_margin_speed": (
-        f"{MARGIN_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat maximum, "
-        "found to 1e-4 relative); where a growth margin is neutral its speed is no result"
+        f"{MARGIN_SPEED_ROUND_OFF:g} x the sweep's next speed above the two (the argument of a flat maximum, "
+        "found to 1e-4 of its bracket's upper speed, the sweep's next); where a growth margin is neutral its "
+        "speed is no result"
     ),
     "least_damping_ratio": (
         f"{DAMPING_RATIO_ROUND_OFF:g} (a damping ratio refined between the sweep's speeds)"
     ),
     "least_damping_ratio_speed": (
-        f"{MARGIN_SPEED_ROUND_OFF:g} x the larger of the two speeds (the argument of a flat minimum); "
-        "where a least damping ratio is neutral its speed is no result"
+        f"{MARGIN_SPEED_ROUND_OFF:g} x the sweep's next speed above the two (the argument of a flat "
+        "minimum); where a least damping ratio is neutral its speed is no result"
     ),
 }
 
@@ -380,30 +384,41 @@ def _rows(entry, base: SweepResult, other: SweepResult) -> list[dict]:
     (va, wa), (vb, wb) = ((r.margins.growth_margin or (None, None))[:2] for r in (base, other))
     neutral = neutral_max(base), neutral_max(other)
     threshold = float(growth_threshold(_largest(wa, wb)))
-    rows += _extreme_rows(entry, "growth_margin", (va, wa), (vb, wb), threshold, neutral, "growth margin")
+    grids = (base.rotor_speed, other.rotor_speed)
+    rows += _extreme_rows(
+        entry, "growth_margin", (va, wa), (vb, wb), threshold, neutral, "growth margin", grids
+    )
     (za, xa), (zb, xb) = ((r.margins.least("operating") or (None, None))[:2] for r in (base, other))
     zero = za == 0.0, zb == 0.0  # (a neutral least: round-off, where it lies is no result)
     rows.append(_row(entry, "least_damping_ratio", za, zb, DAMPING_RATIO_ROUND_OFF))
-    rows.append(_speed_row(entry, "least_damping_ratio", xa, xb, zero, "least damping ratio"))
+    rows.append(_speed_row(entry, "least_damping_ratio", xa, xb, zero, "least damping ratio", grids))
     return rows
 
 
-def _extreme_rows(entry, name, a, b, round_off, neutral, what) -> list:
+def _extreme_rows(entry, name, a, b, round_off, neutral, what, grids) -> list:
     """The rows of an extreme and of where it lies, ``a`` and ``b`` (value, speed) each."""
     return [
         _row(entry, name, a[0], b[0], round_off, round_off=all(neutral)),
-        _speed_row(entry, name, a[1], b[1], neutral, what),
+        _speed_row(entry, name, a[1], b[1], neutral, what, grids),
     ]
 
 
-def _speed_row(entry, name, wa, wb, neutral, what):
+def _bracket_top(speed, grids) -> float:
+    """The least speed of either sweep's ``grids`` at or above ``speed``: the top of the bracket a
+    margin was refined in, whose share the refinement's tolerance is (``speed`` past them)."""
+    above = [float(g[g >= speed].min()) for g in map(np.asarray, grids) if (g >= speed).any()]
+    return min(above, default=speed)
+
+
+def _speed_row(entry, name, wa, wb, neutral, what, grids):
     """The row of where an extreme lies (``name``_speed), no result where both are round-off."""
+    larger = _largest(wa, wb)
     return _row(
         entry,
         f"{name}_speed",
         wa,
         wb,
-        MARGIN_SPEED_ROUND_OFF * _largest(wa, wb),
+        MARGIN_SPEED_ROUND_OFF * _bracket_top(larger, grids),
         note=_neutral_note(neutral, what),
         round_off=all(neutral),
     )

@@ -134,18 +134,34 @@ class LimitCycleResult:
             f"searched from {smallest:.3g} deg: no threshold there)"
         )
 
-    def below_words(self) -> str | None:
-        """Where small motion does not grow but the smallest amplitude searched does, in words (a
-        threshold lies below the amplitudes searched), or None where there is no such speed."""
+    def _starts(self, found) -> str:
+        """The amplitudes at which the motion leaves neutral at speeds ``found``, in words."""
         p = self.prediction
-        found = p.below_searched()
+        starts = sorted({p.lead(i)[1] for i in found})
+        low, high = (f"{math.degrees(a):.3g}" for a in (starts[0], starts[-1]))
+        said = f"{low} deg" if low == high else f"{low} to {high} deg"
+        return said + (" (the smallest amplitude searched)" if starts[-1] == p.amplitudes[0] else "")
+
+    def below_words(self) -> str | None:
+        """Where small motion does not grow but the amplitudes searched do, in words (a threshold
+        lies below them), or None where there is no such speed."""
+        found = self.prediction.below_searched()
         if not found:
             return None
-        smallest = f"{math.degrees(p.amplitudes[0]):.3g} deg"
         return (
-            f"{self._where(found)}, small motion does not grow but a disturbance of {smallest} (the "
-            "smallest amplitude searched) does: a threshold lies below it (lower [limit_cycle] "
-            "amplitude_min to find it)"
+            f"{self._where(found)}, small motion does not grow but a disturbance of {self._starts(found)} "
+            "does: a threshold lies below it (lower [limit_cycle] amplitude_min to find it)"
+        )
+
+    def stable_below_words(self) -> str | None:
+        """Where small motion grows but the amplitudes searched decay, in words (a stable cycle
+        lies below them), or None where there is no such speed."""
+        found = self.prediction.stable_below_searched()
+        if not found:
+            return None
+        return (
+            f"{self._where(found)}, small motion grows but a disturbance of {self._starts(found)} decays: "
+            "the motion settles on a stable cycle below it (lower [limit_cycle] amplitude_min to find it)"
         )
 
     def threshold_words(self, cycle) -> str:
@@ -193,6 +209,7 @@ class LimitCycleResult:
             "verdicts": [p.verdict(i) for i in range(len(p.speeds))],
             "unbounded_speeds": [float(p.speeds[i]) for i in p.unbounded()],
             "threshold_below_searched_speeds": [float(p.speeds[i]) for i in p.below_searched()],
+            "stable_cycle_below_searched_speeds": [float(p.speeds[i]) for i in p.stable_below_searched()],
             "small_motion_growth": [float(g) for g in p.small_growth],
             "cycles": [
                 {
@@ -229,17 +246,14 @@ class LimitCycleResult:
         said = "confirmed" if entry["confirmed"] else "not confirmed"
         if entry["stable"]:
             (run,) = runs.values()
-            change = f"{100 * entry['error']:+.2g} %"
-            if run.get("stopped") is not None:  # (nothing settled to set against the prediction)
-                return f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from " + (
-                    f"{run['factor']:g} times it the run {run_words(run)}"
-                )
-            return (
+            words = (
                 f"at {where} the stable cycle of {entry['predicted']:.3g} deg is {said}: from "
                 f"{run['factor']:g} times it the run {run_words(run)}"
-                + ("" if run["verdict"] == "settled" else f", {run['amplitude']:.3g} deg at its end")
-                + f" ({change})"
             )
+            if run.get("stopped") is not None:  # (nothing settled to set against the prediction)
+                return words
+            end = "" if run["verdict"] == "settled" else f", {run['amplitude']:.3g} deg at its end"
+            return f"{words}{end} ({100 * entry['error']:+.2g} %)"
         below, above = (runs[f] for f in sorted(runs))
 
         def did(run):

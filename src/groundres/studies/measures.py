@@ -42,15 +42,16 @@ MEASURES = {
         "f8",
         "rad",
         "least lag amplitude above which a disturbance grows (an unstable limit cycle), over the limit-cycle "
-        "speeds; 0 where at some speed any disturbance grows without bound; amplitude_min, an upper bound, "
-        "where a threshold lies below the amplitudes searched (below_searched_speed_count); NaN: none, or no "
+        "speeds; 0 where at some speed any disturbance grows without bound; where a threshold lies below the "
+        "amplitudes searched (below_searched_speed_count), the amplitude the growth starts at (amplitude_min "
+        "or above): an upper bound; NaN: none, or no "
         "nonlinear lag damper law",
     ),
     "smallest_threshold_speed": (
         "f8",
         "rad/s",
         "rotor speed of the smallest threshold (where it is 0: the first speed at which any disturbance "
-        "grows; where it is amplitude_min: the first speed whose threshold lies below it)",
+        "grows)",
     ),
     "unbounded_speed_count": (
         "f8",
@@ -64,11 +65,18 @@ MEASURES = {
         "number of limit-cycle speeds at which small motion does not grow but the smallest amplitude "
         "searched does (a threshold lies below amplitude_min); NaN: no nonlinear lag damper law",
     ),
+    "stable_below_searched_speed_count": (
+        "f8",
+        "1",
+        "number of limit-cycle speeds at which small motion grows but the amplitudes searched decay (a "
+        "stable cycle lies below amplitude_min); NaN: no nonlinear lag damper law",
+    ),
     "largest_stable_cycle": (
         "f8",
         "rad",
-        "largest lag amplitude of a stable limit cycle over the limit-cycle speeds; NaN: none, or no "
-        "nonlinear lag damper law",
+        "largest lag amplitude of a stable limit cycle over the limit-cycle speeds (where one lies below the "
+        "amplitudes searched, the amplitude its decay starts at: an upper bound); NaN: none, or no nonlinear "
+        "lag damper law",
     ),
     "largest_stable_cycle_speed": ("f8", "rad/s", "rotor speed of the largest stable cycle"),
 }
@@ -124,14 +132,16 @@ def cycle_measures(case) -> dict:
     bound (:meth:`groundres.assess.limit_cycles.LimitCycles.unbounded`) the smallest threshold is
     0 at the first such speed: a threshold elsewhere would flatter the design. Else, where a
     threshold lies below the amplitudes searched
-    (:meth:`groundres.assess.limit_cycles.LimitCycles.below_searched`) it is at most the smallest
-    amplitude searched, recorded as such where no threshold found is smaller. ``unbounded_speed_count``
-    and ``below_searched_speed_count`` count those speeds."""
+    (:meth:`groundres.assess.limit_cycles.LimitCycles.below_searched`) it is at most the amplitude
+    the growth starts at, recorded as such where no threshold found is smaller; likewise a stable
+    cycle below them bounds the largest stable cycle by the amplitude the decay starts at.
+    ``unbounded_speed_count`` and ``below_searched_speed_count`` count those speeds."""
     names = (
         "smallest_threshold",
         "smallest_threshold_speed",
         "unbounded_speed_count",
         "below_searched_speed_count",
+        "stable_below_searched_speed_count",
         "largest_stable_cycle",
         "largest_stable_cycle_speed",
     )
@@ -144,16 +154,19 @@ def cycle_measures(case) -> dict:
     cycles, unbounded, below = found.cycles, found.unbounded(), found.below_searched()
     thresholds, stable = [c for c in cycles if not c.stable], [c for c in cycles if c.stable]
     out["unbounded_speed_count"], out["below_searched_speed_count"] = float(len(unbounded)), float(len(below))
+    at = found.speeds  # (the speeds predicted: a sweep's speed at rest is left out)
     candidates = [(c.amplitude, c.speed) for c in thresholds]
-    if below:
-        candidates.append((float(found.amplitudes[0]), float(speeds[below[0]])))
+    candidates += [(found.lead(i)[1], float(at[i])) for i in below]  # (upper bounds)
     if unbounded:
-        out["smallest_threshold"], out["smallest_threshold_speed"] = 0.0, float(speeds[unbounded[0]])
+        out["smallest_threshold"], out["smallest_threshold_speed"] = 0.0, float(at[unbounded[0]])
     elif candidates:
         out["smallest_threshold"], out["smallest_threshold_speed"] = min(candidates)
-    if stable:
-        largest = max(stable, key=lambda c: c.amplitude)
-        out["largest_stable_cycle"], out["largest_stable_cycle_speed"] = largest.amplitude, largest.speed
+    sizes = [(c.amplitude, c.speed) for c in stable]
+    settles = found.stable_below_searched()
+    out["stable_below_searched_speed_count"] = float(len(settles))
+    sizes += [(found.lead(i)[1], float(at[i])) for i in settles]  # (upper bounds)
+    if sizes:
+        out["largest_stable_cycle"], out["largest_stable_cycle_speed"] = max(sizes)
     return out
 
 
