@@ -357,36 +357,29 @@ def test_a_run_too_short_for_its_motion_is_refused_naming_the_key(tmp_path):
     """--time 0.01 gave a verdict from windows holding no period of the motion: a run lasts at
     least ten periods, each window at least two, and a confirmation's [simulation] duration is
     held to the same."""
-    result = _cli(
-        "simulate",
-        "hammond-relief-valve",
-        "--speed",
-        "264.34",
-        "--time",
-        "0.01",
-        "--out",
-        str(tmp_path / "o"),
-    )
-    said = " ".join(result.output.split())
-    assert result.exit_code == 2 and "--time = 0.01" in said and "10 periods of the motion" in said
-    result = _cli(
-        "simulate",
-        "hammond-relief-valve",
-        "--speed",
-        "264.34",
-        "--time",
-        "30",
-        "--window",
-        "0.2",
-        "--out",
-        str(tmp_path / "o"),
-    )
-    said = " ".join(result.output.split())
-    assert result.exit_code == 2 and "--window = 0.2" in said and "2 periods" in said and "--time" not in said
+
+    def said(*options):
+        args = (
+            "simulate",
+            "hammond-relief-valve",
+            "--speed",
+            "264.34",
+            *options,
+            "--out",
+            str(tmp_path / "o"),
+        )
+        result = _cli(*args)
+        assert result.exit_code == 2 and "Traceback" not in result.output
+        return " ".join(result.output.split())
+
+    text = said("--time", "0.01")
+    assert "--time = 0.01" in text and "10 periods of the motion at 264.34 rpm" in text
+    text = said("--time", "30", "--window", "0.2")
+    assert "--window = 0.2" in text and "2 periods" in text and "--time" not in text
     path = _file(tmp_path, "confirm = [264.34]\n\n[simulation]\nduration = 1.0\n")
     result = _cli("cycles", path, "--out", str(tmp_path / "out"))
-    said = " ".join(result.output.split())
-    assert result.exit_code == 2 and "[simulation] duration = 1.0" in said and "Traceback" not in said
+    text = " ".join(result.output.split())
+    assert result.exit_code == 2 and "[simulation] duration = 1.0" in text and "Traceback" not in text
     assert not (tmp_path / "out").exists()
 
 

@@ -145,23 +145,20 @@ class LimitCycleResult:
     def below_words(self) -> str | None:
         """Where small motion does not grow but the amplitudes searched do, in words (a threshold
         lies below them), or None where there is no such speed."""
-        found = self.prediction.below_searched()
-        if not found:
-            return None
-        return (
-            f"{self._where(found)}, small motion does not grow but a disturbance of {self._starts(found)} "
-            "does: a threshold lies below it (lower [limit_cycle] amplitude_min to find it)"
-        )
+        return self._below(self.prediction.below_searched(), "does not grow", "does", "a threshold lies")
 
     def stable_below_words(self) -> str | None:
         """Where small motion grows but the amplitudes searched decay, in words (a stable cycle
         lies below them), or None where there is no such speed."""
         found = self.prediction.stable_below_searched()
+        return self._below(found, "grows", "decays", "the motion settles on a stable cycle")
+
+    def _below(self, found, small: str, searched: str, cycle: str) -> str | None:
         if not found:
             return None
         return (
-            f"{self._where(found)}, small motion grows but a disturbance of {self._starts(found)} decays: "
-            "the motion settles on a stable cycle below it (lower [limit_cycle] amplitude_min to find it)"
+            f"{self._where(found)}, small motion {small} but a disturbance of {self._starts(found)} "
+            f"{searched}: {cycle} below it (lower [limit_cycle] amplitude_min to find it)"
         )
 
     def threshold_words(self, cycle) -> str:
