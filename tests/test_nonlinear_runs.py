@@ -389,3 +389,21 @@ def test_a_confirm_speed_is_listed_once():
         CaseError, match=r"\[limit_cycle\] confirm = \[264.34, 264.34\]: must list each speed once"
     ):
         parse_case(tomllib.loads(text), "relief", text)
+
+
+def test_a_run_that_settles_far_from_every_stable_cycle_is_undecided():
+    """At 5000 rpm a 4.7 s run (120 periods of the blade's motion) from 0.8 and 1.25 times a
+    threshold barely moved and read 'settles', both sides, and the threshold was 'confirmed'. A
+    run that settles farther than a factor 1.25 from every predicted stable cycle changes too
+    slowly to tell: undecided, and the cycle is not confirmed."""
+    from types import SimpleNamespace
+
+    from groundres.assess.confirm import run_words, undecided
+
+    def run(level, verdict="settled"):
+        return SimpleNamespace(verdict=verdict, amplitude=level)
+
+    assert undecided(run(2.93), []) and undecided(run(1.0), [1.3])
+    assert not undecided(run(1.0), [1.2]) and not undecided(run(1.0, "grows"), [])
+    said = run_words({"verdict": "settled", "amplitude": 2.93, "undecided": True})
+    assert said.startswith("barely changes, 2.93 deg at its end") and "lengthen [simulation] duration" in said

@@ -338,7 +338,10 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
     >>> found.threshold_words(found.smallest_threshold())  # doctest: +SKIP
     """
     if not case.rotor.nonlinear:
-        raise CaseError("[rotor.lag_damper]: limit cycles need a nonlinear lag damper law (none is given)")
+        raise CaseError(
+            "[rotor.lag_damper]: limit cycles need a nonlinear lag damper law on at least one blade (none "
+            "is given, or every blade's damper is failed)"
+        )
     options = case.limit_cycle
     speeds = np.linspace(case.sweep.start, case.sweep.stop, options.points)
     if progress is not None:

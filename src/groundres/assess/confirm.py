@@ -46,6 +46,9 @@ PERIODS, WINDOW_SHARE = 120, 0.2
 #: Shortest run, in periods of its motion, and shortest measuring window (two fifths of a run of
 #: ten periods): fewer and a window holds too little of the motion for its amplitude.
 MIN_PERIODS, WINDOW_PERIODS = 10, 2
+#: A run settles on a predicted stable cycle when its level lies within this factor of it; one that
+#: settles farther from every stable cycle only changes too slowly to tell (undecided).
+NEAR_CYCLE = 1.25
 
 
 @dataclass
@@ -132,11 +135,24 @@ def beyond(measured: Measured, threshold: float, stable=()) -> bool:
     return destination(measured, stable) > threshold
 
 
+def undecided(measured: Measured, stable) -> bool:
+    """Whether a run that settled did so far from every ``stable`` cycle's amplitude [rad] (by more
+    than a factor :data:`NEAR_CYCLE`): it changes too slowly to tell where it heads in this run."""
+    if measured.verdict != "settled" or not measured.amplitude > 0:
+        return False
+    return not any(abs(math.log(measured.amplitude / a)) <= math.log(NEAR_CYCLE) for a in stable if a > 0)
+
+
 def run_words(run: dict) -> str:
     """What a run did, from its entry in limit_cycles.json: 'decays', 'grows', 'settles at
     1.21 deg', 'grows past 90 deg, where it stopped at 3.2 s'."""
     if run.get("stopped") is not None:
         return f"grows past 90 deg, where it stopped at {run['stopped']:.3g} s"
+    if run.get("undecided"):
+        return (
+            f"barely changes, {run['amplitude']:.3g} deg at its end with no stable cycle predicted near: too "
+            "slow to tell in this run (lengthen [simulation] duration)"
+        )
     if run["verdict"] == "settled":
         return f"settles at {run['amplitude']:.3g} deg"
     return run["verdict"]
@@ -260,6 +276,7 @@ def confirm(
             "evaluations": m.history.evaluations,
             "method": m.history.method,
             "stopped": m.history.stopped,
+            "undecided": undecided(m, stable + ([cycle.amplitude] if cycle.stable else [])),
             **({} if cycle.stable else {"beyond": beyond(m, cycle.amplitude, stable)}),
         }
         for f, m in runs.items()
@@ -274,6 +291,7 @@ def confirm(
         out["error"] = settled.amplitude / cycle.amplitude - 1
     else:
         out["confirmed"] = not out["runs"][0]["beyond"] and out["runs"][1]["beyond"]
+    out["confirmed"] = out["confirmed"] and not any(r["undecided"] for r in out["runs"])
     out["duration"], out["window"] = duration, runs[factors[0]].window
     return out
 

@@ -254,7 +254,9 @@ class LimitCycleResult:
         below, above = (runs[f] for f in sorted(runs))
 
         def did(run):
-            side = " (heads beyond it)" if run["beyond"] else " (stays below it)"
+            side = (
+                "" if run.get("undecided") else " (heads beyond it)" if run["beyond"] else " (stays below it)"
+            )
             return f"{run['factor']:g} times it {run_words(run)}{side}"
 
         predicted = f"{entry['predicted']:.3g} deg"
