@@ -357,7 +357,9 @@ def limit_cycles(case: Case, *, linear: bool = True, progress=None) -> LimitCycl
         cycles = at_speeds.cycles
         try:  # (every run's length checked before the first runs)
             for cycle in cycles:
-                run_length(case, cycle, case.simulation.duration, case.simulation.window)
+                run_length(
+                    case, cycle.speed, cycle.frequency, case.simulation.duration, case.simulation.window
+                )
         except ParameterError as err:  # (the run's length or window, from the case file)
             raise CaseError(f"[simulation] {err}") from None
         for i, speed in enumerate(at_speeds.speeds):  # (a speed without cycles: said so)

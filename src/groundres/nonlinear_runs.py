@@ -16,8 +16,8 @@ import numpy as np
 from .assess import confirm as confirming
 from .assess.limit_cycles import disturbance, predict
 from .errors import CaseError, ParameterError
-from .model.params import MAX_DURATION, Case, SimulationOptions
-from .model.units import SPEED_UNITS, fmt_speed
+from .model.params import Case, SimulationOptions
+from .model.units import SPEED_UNITS
 from .results.nonlinear_run import NonlinearRun
 from .solve import nonlinear
 from .solve.simulate import default_initial, initial_state, initial_text
@@ -106,11 +106,7 @@ def run_nonlinear(
         words = initial_text(values)
         blade = case.rotor.blades[0]
         frequency = float(blade.lag_frequency(np.array([speed]))[0]) * speed
-    run_for = confirming.default_duration(frequency) if given.duration is None else given.duration
-    run_for = min(run_for, MAX_DURATION)
-    measured_over = confirming.WINDOW_SHARE * run_for if given.window is None else given.window
-    where = f"at {fmt_speed(speed, case.sweep)}"
-    confirming.check_length(run_for, measured_over, frequency, where, given.duration is None)
+    run_for, measured_over = confirming.run_length(case, speed, frequency, given.duration, given.window)
     history = nonlinear.integrate(case, speed, run_for, start, progress=progress)
     return NonlinearRun(case, speed, words, confirming.measure(history, measured_over), predicted)
 

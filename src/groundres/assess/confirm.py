@@ -207,16 +207,16 @@ def check_length(duration: float, window: float, frequency: float, where: str, d
         )
 
 
-def run_length(case, cycle, duration=None, window=None) -> tuple[float, float]:
-    """The (duration, window) [s] of a run confirming ``cycle`` of ``case``: those given, or the
-    defaults at its speed (:func:`default_duration`, :data:`WINDOW_SHARE` of it), checked
-    (:func:`check_length`)."""
+def run_length(case, speed, frequency, duration=None, window=None) -> tuple[float, float]:
+    """The (duration, window) [s] of a run of ``case`` at ``speed`` [rad/s] whose motion is at
+    ``frequency`` [rad/s, rotating frame]: those given, or the defaults (:func:`default_duration`,
+    :data:`WINDOW_SHARE` of it), checked (:func:`check_length`)."""
     from ..model.units import fmt_speed
 
     default = duration is None
-    duration = default_duration(cycle.frequency) if default else duration
+    duration = default_duration(frequency) if default else duration
     window = WINDOW_SHARE * duration if window is None else window
-    check_length(duration, window, cycle.frequency, f"at {fmt_speed(cycle.speed, case.sweep)}", default)
+    check_length(duration, window, frequency, f"at {fmt_speed(speed, case.sweep)}", default)
     return duration, window
 
 
@@ -255,7 +255,7 @@ def confirm(
     from ..solve import nonlinear
     from .limit_cycles import disturbance
 
-    duration, window = run_length(case, cycle, duration, window)
+    duration, window = run_length(case, cycle.speed, cycle.frequency, duration, window)
     stable = [c.amplitude for c in others if c.stable]
     system = nonlinear.structure(case)
     factors = (stable_start(cycle, others),) if cycle.stable else (BELOW, ABOVE)
@@ -324,7 +324,8 @@ def bracket_threshold(
     from .limit_cycles import disturbance
 
     system = nonlinear.structure(case)
-    duration, _ = run_length(case, cycle, 120 * math.pi / cycle.frequency if duration is None else duration)
+    duration = 120 * math.pi / cycle.frequency if duration is None else duration
+    duration, _ = run_length(case, cycle.speed, cycle.frequency, duration)
     stable = [c.amplitude for c in others if c.stable]
 
     runs = [0]

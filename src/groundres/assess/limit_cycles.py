@@ -92,18 +92,13 @@ class LimitCycles:
 
     def signs(self, i: int) -> np.ndarray:
         """Along the amplitudes scanned at speed ``i``: +1 where the motion grows, -1 where it
-        decays, 0 within the linear analysis's growth threshold of neutral
-        (:func:`groundres.assess.stability.growth_threshold`)."""
-        band = float(growth_threshold(self.speeds[i]))
-        row = self.growth[i]
-        return np.where(row > band, 1, np.where(row < -band, -1, 0))
+        decays, 0 neutral (:func:`_signs`)."""
+        return _signs(self.growth[i], self.speeds[i])
 
     def small_sign(self, i: int) -> int:
         """Whether small motion grows (+1), decays (-1) or is neutral (0) at speed ``i``: the
         linear analysis's verdict on the least stable root with lag motion."""
-        band = float(growth_threshold(self.speeds[i]))
-        g = self.small_growth[i]
-        return 1 if g > band else -1 if g < -band else 0
+        return int(_signs(self.small_growth[i], self.speeds[i]))
 
     def lead(self, i: int) -> tuple[int, float | None]:
         """The first sign other than neutral along the amplitudes scanned at speed ``i`` and the
@@ -399,13 +394,20 @@ def predict(
     return result
 
 
+def _signs(growth, speeds):
+    """+1 where ``growth`` [1/s] grows, -1 where it decays, 0 within the linear analysis's growth
+    threshold of neutral at ``speeds`` [rad/s] (:func:`groundres.assess.stability.growth_threshold`;
+    arrays broadcast)."""
+    band = growth_threshold(speeds)
+    return np.where(growth > band, 1, np.where(growth < -band, -1, 0))
+
+
 def _crossings(growth, speeds) -> tuple[np.ndarray, np.ndarray]:
     """The brackets (speed index, amplitude index) of the scan's sign changes that carry the
     motion from growing to decaying or back beyond the linear analysis's growth threshold: a
     change of sign within it (round-off about a neutral root) is no cycle. Of the changes between
     two amplitudes outside the threshold, the first is kept."""
-    band = growth_threshold(speeds)[:, None]
-    signs = np.where(growth > band, 1, np.where(growth < -band, -1, 0))
+    signs = _signs(growth, np.asarray(speeds)[:, None])
     s_i, a_i = np.nonzero(np.sign(growth[:, :-1]) * np.sign(growth[:, 1:]) < 0)
     kept, seen = [], set()
     for k, (s, a) in enumerate(zip(s_i, a_i)):  # (a few per speed at most)

@@ -85,8 +85,7 @@ def _print(console, found) -> None:
     if settles is not None:
         console.print(plain(f"Stable cycle below the amplitudes searched: {settles}."))
     if worst is not None:
-        elsewhere = " (where there is one)" if unbounded is not None else ""
-        elsewhere = " (of those found)" if below is not None else elsewhere
+        elsewhere = " (of those found)" if below else " (where there is one)" if unbounded else ""
         console.print(plain(f"Smallest threshold{elsewhere}: {found.threshold_words(worst)}."))
     if largest is not None:
         console.print(plain(f"Largest stable cycle: {found.stable_words(largest)}."))

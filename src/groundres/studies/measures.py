@@ -44,8 +44,7 @@ MEASURES = {
         "least lag amplitude above which a disturbance grows (an unstable limit cycle), over the limit-cycle "
         "speeds; 0 where at some speed any disturbance grows without bound; where a threshold lies below the "
         "amplitudes searched (below_searched_speed_count), the amplitude the growth starts at (amplitude_min "
-        "or above): an upper bound; NaN: none, or no "
-        "nonlinear lag damper law",
+        "or above): an upper bound; NaN: none, or no nonlinear lag damper law",
     ),
     "smallest_threshold_speed": (
         "f8",
