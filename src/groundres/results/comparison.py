@@ -404,10 +404,11 @@ def _extreme_rows(entry, name, a, b, round_off, neutral, what, grids) -> list:
 
 
 def _bracket_top(speed, grids) -> float:
-    """The least speed of either sweep's ``grids`` at or above ``speed``: the top of the bracket a
-    margin was refined in, whose share the refinement's tolerance is (``speed`` past them)."""
+    """The top of the bracket a margin was refined in, whose share the refinement's tolerance is:
+    each sweep's ``grids`` next speed at or above ``speed``, the larger of the two (the looser
+    tolerance; ``speed`` past them)."""
     above = [float(g[g >= speed].min()) for g in map(np.asarray, grids) if (g >= speed).any()]
-    return min(above, default=speed)
+    return max(above, default=speed)
 
 
 def _speed_row(entry, name, wa, wb, neutral, what, grids):
